@@ -1,0 +1,53 @@
+// A rigid, outward-oriented body and the data derived from it. Derived data is built lazily, once,
+// on first use, and is safe to share between threads (std::call_once): a body that is reused for
+// many garments pays for its BVH once.
+#pragma once
+
+#include "virtual_tryon/core/mesh.h"
+
+#include <memory>
+#include <mutex>
+
+namespace virtual_tryon {
+
+class BodyBVH;  // FCL BVH over the body's faces (defined in intersections.cpp, FCL stays there)
+
+class Body {
+ public:
+  explicit Body(TriMesh mesh);
+  ~Body();
+  Body(const Body&) = delete;
+  Body& operator=(const Body&) = delete;
+
+  const TriMesh& mesh() const { return mesh_; }
+  const MatrixX3d& faceNormals() const { return face_normals_; }  // #F by 3, unit, outward
+  const MatrixX2i& edges() const { return edges_; }                // #E by 2 unique edges
+  const MatrixX3i& faceEdges() const { return face_edges_; }       // #F by 3 into edges()
+  // #E by 3: unit mean of the normals of the faces incident to each edge (outward direction at a
+  // ridge or a valley).
+  const MatrixX3d& edgeNormals() const { return edge_normals_; }
+  const EdgeTopology& topology() const { return topology_; }
+  bool closed() const { return topology_.closed(); }
+  double meanEdgeLength() const { return mean_edge_length_; }
+
+  // The FCL BVH; built on the first call (thread-safe), then reused.
+  const BodyBVH& bvh() const;
+  bool bvhBuilt() const { return bvh_built_; }
+  double bvhBuildSeconds() const { return bvh_seconds_; }
+
+ private:
+  TriMesh mesh_;
+  MatrixX3d face_normals_;
+  MatrixX2i edges_;
+  MatrixX3i face_edges_;
+  MatrixX3d edge_normals_;
+  EdgeTopology topology_;
+  double mean_edge_length_ = 0;
+
+  mutable std::once_flag bvh_once_;
+  mutable std::unique_ptr<BodyBVH> bvh_;
+  mutable bool bvh_built_ = false;
+  mutable double bvh_seconds_ = 0;
+};
+
+}  // namespace virtual_tryon

@@ -1,0 +1,46 @@
+#include "virtual_tryon/core/body.h"
+
+#include "fcl_bvh.h"
+
+#include <chrono>
+
+namespace virtual_tryon {
+
+const fcl::CollisionObjectd& BodyBVH::distanceObject(const MatrixX3d& V, const MatrixX3i& F) const {
+  std::call_once(distance_once_, [&] {
+    distance_model_ = buildFclModel<FclDistanceModel>(V, F, nullptr);
+    distance_object_ = std::make_unique<fcl::CollisionObjectd>(distance_model_, fcl::Transform3d::Identity());
+  });
+  return *distance_object_;
+}
+
+Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
+  face_normals_ = virtual_tryon::faceNormals(mesh_);
+  edges_ = uniqueEdges(mesh_, &face_edges_);
+  edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
+  for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
+  for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
+    const double len = edge_normals_.row(e).norm();
+    if (len > 0) edge_normals_.row(e) /= len;
+  }
+  topology_ = edgeTopology(mesh_);
+  mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
+}
+
+Body::~Body() = default;
+
+const BodyBVH& Body::bvh() const {
+  std::call_once(bvh_once_, [this] {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto b = std::make_unique<BodyBVH>();
+    b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
+    b->object = std::make_unique<fcl::CollisionObjectd>(b->model, fcl::Transform3d::Identity());
+    bvh_ = std::move(b);
+    bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    bvh_built_ = true;
+  });
+  return *bvh_;
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,176 @@
+#include "virtual_tryon/core/impact_zones.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace virtual_tryon {
+
+std::vector<std::vector<int>> groupImpactZones(const std::vector<Stencil>& stencils,
+                                               int numVertices) {
+  std::vector<int> parent(static_cast<std::size_t>(numVertices), -1);  // -1: not in any stencil
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const Stencil& s : stencils)
+    for (int k = 0; k < s.count; ++k)
+      if (parent[s.vertex[k]] < 0) parent[s.vertex[k]] = s.vertex[k];
+  for (const Stencil& s : stencils)
+    for (int k = 1; k < s.count; ++k) {
+      const int a = find(s.vertex[0]), b = find(s.vertex[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::unordered_map<int, std::size_t> zoneOf;
+  std::vector<std::vector<int>> zones;
+  for (std::size_t i = 0; i < stencils.size(); ++i) {
+    const int r = find(stencils[i].vertex[0]);
+    auto it = zoneOf.emplace(r, zones.size());
+    if (it.second) zones.emplace_back();
+    zones[it.first->second].push_back(static_cast<int>(i));
+  }
+  return zones;
+}
+
+namespace {
+
+// Gradient dot product of two stencils: sum over shared vertices of w_i w_j (n_i . n_j).
+double gradientDot(const Stencil& a, const Stencil& b) {
+  double w = 0;
+  for (int i = 0; i < a.count; ++i)
+    for (int j = 0; j < b.count; ++j)
+      if (a.vertex[i] == b.vertex[j]) w += a.weight[i] * b.weight[j];
+  return w == 0 ? 0.0 : w * a.normal.dot(b.normal);
+}
+
+}  // namespace
+
+ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
+                             double d) {
+  ZoneSolution sol;
+  const int k = static_cast<int>(zone.size());
+  // Local vertex numbering.
+  std::unordered_map<int, int> local;
+  for (int i : zone)
+    for (int j = 0; j < stencils[i].count; ++j)
+      if (local.emplace(stencils[i].vertex[j], static_cast<int>(sol.vertices.size())).second)
+        sol.vertices.push_back(stencils[i].vertex[j]);
+  // Stencils per local vertex, to assemble only the non-zero entries of Dx^T Dx.
+  std::vector<std::vector<int>> byVertex(sol.vertices.size());
+  for (int i = 0; i < k; ++i) {
+    const Stencil& s = stencils[zone[i]];
+    for (int j = 0; j < s.count; ++j) byVertex[local[s.vertex[j]]].push_back(i);
+  }
+  std::vector<Eigen::Triplet<double>> trip;
+  for (const auto& list : byVertex)
+    for (int a : list)
+      for (int b : list)
+        if (a <= b) trip.emplace_back(a, b, 0.0);  // structure; values below
+  Eigen::SparseMatrix<double> A(k, k);
+  A.setFromTriplets(trip.begin(), trip.end(), [](double x, double) { return x; });
+  double maxDiag = 0;
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
+      it.valueRef() = gradientDot(stencils[zone[it.row()]], stencils[zone[it.col()]]);
+      if (it.row() == it.col()) maxDiag = std::max(maxDiag, it.value());
+    }
+  Eigen::SparseMatrix<double> Afull = A.selfadjointView<Eigen::Upper>();
+  const double eps = 1e-10 * std::max(maxDiag, 1e-300);
+
+  Eigen::VectorXd b(k);
+  for (int i = 0; i < k; ++i) b[i] = d - stencils[zone[i]].D;
+
+  std::vector<char> active(static_cast<std::size_t>(k), 1);
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(k);
+  const double tol = 1e-9 + 1e-6 * std::max(d, 0.0);
+  const int maxRounds = 50;
+  for (int round = 0; round < maxRounds; ++round) {
+    sol.active_set_rounds = round + 1;
+    std::vector<int> idx;
+    for (int i = 0; i < k; ++i)
+      if (active[i]) idx.push_back(i);
+    lambda.setZero();
+    if (!idx.empty()) {
+      const int m = static_cast<int>(idx.size());
+      std::vector<int> pos(static_cast<std::size_t>(k), -1);
+      for (int i = 0; i < m; ++i) pos[idx[i]] = i;
+      std::vector<Eigen::Triplet<double>> t;
+      for (int c = 0; c < Afull.outerSize(); ++c) {
+        if (pos[c] < 0) continue;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(Afull, c); it; ++it)
+          if (pos[it.row()] >= 0) t.emplace_back(pos[it.row()], pos[c], it.value());
+      }
+      for (int i = 0; i < m; ++i) t.emplace_back(i, i, eps);
+      Eigen::SparseMatrix<double> As(m, m);
+      As.setFromTriplets(t.begin(), t.end());
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(As);
+      Eigen::VectorXd bs(m);
+      for (int i = 0; i < m; ++i) bs[i] = b[idx[i]];
+      Eigen::VectorXd ls = ldlt.info() == Eigen::Success ? Eigen::VectorXd(ldlt.solve(bs))
+                                                         : Eigen::VectorXd::Zero(m);
+      if (ldlt.info() == Eigen::Success) {
+        const Eigen::VectorXd piv = ldlt.vectorD().cwiseAbs();
+        sol.condition_estimate = piv.maxCoeff() / std::max(piv.minCoeff(), 1e-300);
+      }
+      for (int i = 0; i < m; ++i) lambda[idx[i]] = ls[i];
+    }
+    // Drop every stencil whose multiplier went negative (it would pull its vertices inward)...
+    bool dropped = false;
+    for (int i = 0; i < k; ++i)
+      if (active[i] && lambda[i] < -1e-15 * (1.0 + std::abs(b[i]))) {
+        active[i] = 0;
+        dropped = true;
+      }
+    if (dropped) continue;
+    // ...and re-add every inactive one the others leave violated.
+    const Eigen::VectorXd g = Afull * lambda;  // Dx^T dx
+    bool added = false;
+    for (int i = 0; i < k; ++i)
+      if (!active[i] && b[i] - g[i] > tol) {
+        active[i] = 1;
+        added = true;
+      }
+    if (!added) break;
+  }
+  // Should the active set still be cycling, polish with projected Gauss-Seidel on the full set.
+  if (sol.active_set_rounds >= maxRounds) {
+    Eigen::VectorXd diag = Afull.diagonal();
+    for (int sweep = 0; sweep < 200; ++sweep)
+      for (int c = 0; c < Afull.outerSize(); ++c) {
+        if (!(diag[c] > 0)) continue;
+        double r = b[c];
+        for (Eigen::SparseMatrix<double>::InnerIterator it(Afull, c); it; ++it)
+          if (it.row() != c) r -= it.value() * lambda[it.row()];
+        lambda[c] = std::max(0.0, r / diag[c]);
+      }
+  }
+  for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
+
+  // dx = Dx lambda.
+  sol.displacement.assign(sol.vertices.size(), Eigen::Vector3d::Zero());
+  for (int i = 0; i < k; ++i) {
+    const Stencil& s = stencils[zone[i]];
+    for (int j = 0; j < s.count; ++j)
+      sol.displacement[local[s.vertex[j]]] += lambda[i] * s.weight[j] * s.normal;
+  }
+  sol.lambda.assign(lambda.data(), lambda.data() + k);
+  const Eigen::VectorXd g = Afull * lambda;
+  for (int i = 0; i < k; ++i) sol.max_violation = std::max(sol.max_violation, b[i] - g[i]);
+  bool finite = lambda.allFinite();
+  for (const auto& v : sol.displacement) finite = finite && v.allFinite();
+  if (!finite) {
+    for (auto& v : sol.displacement) v.setZero();
+    std::fill(sol.lambda.begin(), sol.lambda.end(), 0.0);
+    sol.feasible = false;
+    sol.max_violation = b.maxCoeff();
+    return sol;
+  }
+  sol.feasible = sol.max_violation <= std::max(tol, 1e-3 * std::max(d, 0.0));
+  return sol;
+}
+
+}  // namespace virtual_tryon

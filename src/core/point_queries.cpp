@@ -1,0 +1,90 @@
+#include "virtual_tryon/core/point_queries.h"
+
+#include "virtual_tryon/core/edge_face_crossing.h"
+#include "fcl_bvh.h"
+
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/distance.h>
+
+namespace virtual_tryon {
+
+// Ericson, Real-Time Collision Detection, 5.1.5.
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p) {
+  ClosestPoint cp;
+  const BodyBVH& bvh = body.bvh();
+  auto sphere = std::make_shared<fcl::Sphered>(1e-12);
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.translation() = p;
+  fcl::CollisionObjectd probe(sphere, tf);
+  fcl::DistanceRequestd request(true);  // nearest points
+  fcl::DistanceResultd result;
+  fcl::distance(&bvh.distanceObject(body.mesh().V, body.mesh().F), &probe, request, result);
+  cp.face = result.b1;
+  if (cp.face < 0 || cp.face >= body.mesh().F.rows()) {
+    cp.point = result.nearest_points[0];
+  } else {
+    // FCL found the face; take its nearest point exactly (FCL's is only as good as its GJK).
+    const MatrixX3d& V = body.mesh().V;
+    const MatrixX3i& F = body.mesh().F;
+    cp.point = closestPointOnTriangle(p, V.row(F(cp.face, 0)).transpose(),
+                                      V.row(F(cp.face, 1)).transpose(),
+                                      V.row(F(cp.face, 2)).transpose());
+  }
+  cp.distance = (cp.point - p).norm();
+  return cp;
+}
+
+bool pointInsideBody(const Body& body, const Eigen::Vector3d& p) {
+  if (!body.closed()) return false;
+  const MatrixX3d& V = body.mesh().V;
+  const MatrixX3i& F = body.mesh().F;
+  Eigen::Vector3d lo, hi;
+  boundingBox(body.mesh(), lo, hi);
+  if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return false;
+  const double L = 4.0 * (hi - lo).norm() + 1.0;
+  static const Eigen::Vector3d dirs[3] = {
+      Eigen::Vector3d(0.5773, 0.5774, 0.5775).normalized(),
+      Eigen::Vector3d(-0.7071, 0.0123, 0.7069).normalized(),
+      Eigen::Vector3d(0.0311, -0.9993, -0.0209).normalized()};
+  int votes = 0;
+  for (const auto& d : dirs) {
+    const Eigen::Vector3d q = p + L * d;
+    int hits = 0;
+    for (Eigen::Index f = 0; f < F.rows(); ++f) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      // Cheap rejects before the full predicate.
+      if (std::max({a.x(), b.x(), c.x()}) < std::min(p.x(), q.x()) ||
+          std::min({a.x(), b.x(), c.x()}) > std::max(p.x(), q.x()) ||
+          std::max({a.y(), b.y(), c.y()}) < std::min(p.y(), q.y()) ||
+          std::min({a.y(), b.y(), c.y()}) > std::max(p.y(), q.y()))
+        continue;
+      if (segmentCrossesTriangle(p, q, a, b, c) || segmentCrossesTriangle(q, p, a, b, c)) ++hits;
+    }
+    votes += hits & 1;
+  }
+  return votes >= 2;
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,126 @@
+#include "virtual_tryon/core/reference_check.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace virtual_tryon {
+namespace {
+
+struct Box {
+  Eigen::Vector3d lo, hi;
+  bool overlaps(const Box& o) const {
+    return (lo.array() <= o.hi.array()).all() && (o.lo.array() <= hi.array()).all();
+  }
+};
+
+// Moller-Trumbore: does segment o + t dir, t in (eps, 1 - eps), hit the triangle (u, v > 0)?
+bool mtHit(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, const Eigen::Vector3d& a,
+           const Eigen::Vector3d& b, const Eigen::Vector3d& c, double eps, double* tOut = nullptr) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d p = dir.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-300) return false;
+  const double inv = 1.0 / det;
+  const Eigen::Vector3d s = o - a;
+  const double u = s.dot(p) * inv;
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = dir.dot(q) * inv;
+  if (v < 0 || u + v > 1) return false;
+  const double t = e2.dot(q) * inv;
+  if (tOut) *tOut = t;
+  return t > eps && t < 1 - eps;
+}
+
+std::vector<Box> faceBoxes(const TriMesh& m) {
+  std::vector<Box> boxes(static_cast<std::size_t>(m.F.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    Box& bx = boxes[static_cast<std::size_t>(f)];
+    bx.lo = bx.hi = m.V.row(m.F(f, 0)).transpose();
+    for (int k = 1; k < 3; ++k) {
+      bx.lo = bx.lo.cwiseMin(m.V.row(m.F(f, k)).transpose());
+      bx.hi = bx.hi.cwiseMax(m.V.row(m.F(f, k)).transpose());
+    }
+  }
+  return boxes;
+}
+
+std::size_t countEdgeCrossings(const TriMesh& edgesOf, const TriMesh& facesOf, double eps) {
+  const MatrixX2i E = uniqueEdges(edgesOf);
+  const std::vector<Box> boxes = faceBoxes(facesOf);
+  std::size_t n = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const Eigen::Vector3d a = edgesOf.V.row(E(e, 0)).transpose(), b = edgesOf.V.row(E(e, 1)).transpose();
+    const Box eb{a.cwiseMin(b), a.cwiseMax(b)};
+    for (Eigen::Index f = 0; f < facesOf.F.rows(); ++f) {
+      if (!eb.overlaps(boxes[static_cast<std::size_t>(f)])) continue;
+      if (mtHit(a, b - a, facesOf.V.row(facesOf.F(f, 0)).transpose(), facesOf.V.row(facesOf.F(f, 1)).transpose(),
+                facesOf.V.row(facesOf.F(f, 2)).transpose(), eps))
+        ++n;
+    }
+  }
+  return n;
+}
+
+double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  // Projection if inside, else the nearest of the three edges.
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double nn = n.squaredNorm();
+  if (nn > 0) {
+    const Eigen::Vector3d q = p - n * (n.dot(p - a) / nn);
+    const double w0 = (b - q).cross(c - q).dot(n), w1 = (c - q).cross(a - q).dot(n),
+                 w2 = (a - q).cross(b - q).dot(n);
+    if (w0 >= 0 && w1 >= 0 && w2 >= 0) return (p - q).norm();
+  }
+  auto seg = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    const Eigen::Vector3d d = v - u;
+    const double t = d.squaredNorm() > 0 ? std::clamp((p - u).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (p - (u + t * d)).norm();
+  };
+  return std::min({seg(a, b), seg(b, c), seg(c, a)});
+}
+
+}  // namespace
+
+ReferenceCounts referenceCounts(const TriMesh& body, const TriMesh& garment, bool countInside,
+                                double eps) {
+  ReferenceCounts r;
+  r.garment_edge_crossings = countEdgeCrossings(garment, body, eps);
+  r.body_edge_crossings = countEdgeCrossings(body, garment, eps);
+  if (!countInside) return r;
+  Eigen::Vector3d lo, hi;
+  boundingBox(body, lo, hi);
+  const double L = 3.0 * (hi - lo).norm() + 1.0;
+  const Eigen::Vector3d dirs[3] = {Eigen::Vector3d(0.4367, 0.8021, 0.4073).normalized(),
+                                   Eigen::Vector3d(-0.8812, 0.1732, -0.4397).normalized(),
+                                   Eigen::Vector3d(0.2113, -0.5557, 0.8041).normalized()};
+  for (Eigen::Index v = 0; v < garment.V.rows(); ++v) {
+    const Eigen::Vector3d p = garment.V.row(v).transpose();
+    if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+    int votes = 0;
+    for (const auto& d : dirs) {
+      int hits = 0;
+      for (Eigen::Index f = 0; f < body.F.rows(); ++f)
+        if (mtHit(p, L * d, body.V.row(body.F(f, 0)).transpose(), body.V.row(body.F(f, 1)).transpose(),
+                  body.V.row(body.F(f, 2)).transpose(), 0.0))
+          ++hits;
+      votes += hits & 1;
+    }
+    if (votes < 2) continue;
+    ++r.vertices_inside;
+    double dmin = std::numeric_limits<double>::infinity();
+    for (Eigen::Index f = 0; f < body.F.rows(); ++f)
+      dmin = std::min(dmin, pointTriangleDistance(p, body.V.row(body.F(f, 0)).transpose(),
+                                                  body.V.row(body.F(f, 1)).transpose(),
+                                                  body.V.row(body.F(f, 2)).transpose()));
+    r.max_depth = std::max(r.max_depth, dmin);
+  }
+  return r;
+}
+
+}  // namespace virtual_tryon

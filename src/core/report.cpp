@@ -1,0 +1,91 @@
+#include "virtual_tryon/core/report.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace virtual_tryon {
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::ostringstream o;
+  o << '"';
+  for (char c : s) {
+    switch (c) {
+      case '"': o << "\\\""; break;
+      case '\\': o << "\\\\"; break;
+      case '\n': o << "\\n"; break;
+      case '\t': o << "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20)
+          o << "\\u" << std::hex << std::setw(4) << std::setfill('0') << static_cast<int>(c) << std::dec;
+        else
+          o << c;
+    }
+  }
+  o << '"';
+  return o.str();
+}
+
+class Obj {
+ public:
+  Obj& add(const char* k, const std::string& v) { return raw(k, quoted(v)); }
+  Obj& add(const char* k, bool v) { return raw(k, v ? "true" : "false"); }
+  Obj& add(const char* k, std::size_t v) { return raw(k, std::to_string(v)); }
+  Obj& add(const char* k, int v) { return raw(k, std::to_string(v)); }
+  Obj& add(const char* k, double v) {
+    if (!std::isfinite(v)) return raw(k, "null");
+    std::ostringstream o;
+    o << std::setprecision(9) << v;
+    return raw(k, o.str());
+  }
+  std::string str() const { return "{" + body_.str() + "}"; }
+
+ private:
+  Obj& raw(const char* k, const std::string& v) {
+    if (!first_) body_ << ", ";
+    first_ = false;
+    body_ << quoted(k) << ": " << v;
+    return *this;
+  }
+  std::ostringstream body_;
+  bool first_ = true;
+};
+
+}  // namespace
+
+std::string toJson(const ResolverReport& r) {
+  return Obj()
+      .add("converged", r.converged)
+      .add("reason", r.reason)
+      .add("iterations", r.iterations)
+      .add("garment_edge_crossings_before", r.garment_edge_crossings_before)
+      .add("body_edge_crossings_before", r.body_edge_crossings_before)
+      .add("garment_edge_crossings_after", r.garment_edge_crossings_after)
+      .add("body_edge_crossings_after", r.body_edge_crossings_after)
+      .add("illegal_vertices", r.illegal_vertices)
+      .add("impact_zones", r.impact_zones)
+      .add("infeasible_zones", r.infeasible_zones)
+      .add("body_closed", r.body_closed)
+      .add("vertices_inside_before", r.vertices_inside_before)
+      .add("vertices_inside_after", r.vertices_inside_after)
+      .add("moved_vertices", r.moved_vertices)
+      .add("clearance_m", r.clearance)
+      .add("mean_displacement_m", r.mean_displacement)
+      .add("max_displacement_m", r.max_displacement)
+      .add("seconds_detection", r.seconds_detection)
+      .add("seconds_solve", r.seconds_solve)
+      .add("seconds_total", r.seconds_total)
+      .str();
+}
+
+std::string toJson(const ReferenceCounts& c) {
+  return Obj()
+      .add("garment_edge_crossings", c.garment_edge_crossings)
+      .add("body_edge_crossings", c.body_edge_crossings)
+      .add("vertices_inside", c.vertices_inside)
+      .add("max_depth_m", c.max_depth)
+      .str();
+}
+
+}  // namespace virtual_tryon

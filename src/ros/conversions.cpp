@@ -1,0 +1,228 @@
+#include "virtual_tryon/ros/conversions.h"
+
+#include <sensor_msgs/PointField.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <utility>
+
+namespace virtual_tryon {
+namespace ros_conversions {
+namespace {
+
+const char* datatypeName(std::uint8_t t) {
+  switch (t) {
+    case sensor_msgs::PointField::INT8: return "INT8";
+    case sensor_msgs::PointField::UINT8: return "UINT8";
+    case sensor_msgs::PointField::INT16: return "INT16";
+    case sensor_msgs::PointField::UINT16: return "UINT16";
+    case sensor_msgs::PointField::INT32: return "INT32";
+    case sensor_msgs::PointField::UINT32: return "UINT32";
+    case sensor_msgs::PointField::FLOAT32: return "FLOAT32";
+    case sensor_msgs::PointField::FLOAT64: return "FLOAT64";
+    default: return "unknown";
+  }
+}
+
+bool faceIsValid(const TriMesh& mesh, Eigen::Index f) {
+  const Eigen::Index n = mesh.V.rows();
+  for (int k = 0; k < 3; ++k)
+    if (mesh.F(f, k) < 0 || mesh.F(f, k) >= n) return false;
+  return true;
+}
+
+}  // namespace
+
+bool pointCloudToVertices(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, std::string& error) {
+  if (cloud.is_bigendian) {
+    error = "point cloud is big-endian (is_bigendian = true); only little-endian data is supported";
+    return false;
+  }
+  const std::uint64_t width = cloud.width, height = cloud.height, step = cloud.point_step;
+  const std::uint64_t n = width * height;
+  if (n == 0) {
+    V.resize(0, 3);
+    return true;
+  }
+  if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
+    error = "point cloud has " + std::to_string(n) + " points, more than a mesh can index";
+    return false;
+  }
+
+  const char* names[3] = {"x", "y", "z"};
+  std::uint32_t offset[3];
+  bool isDouble[3];
+  for (int k = 0; k < 3; ++k) {
+    const auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
+                                 [&](const sensor_msgs::PointField& f) { return f.name == names[k]; });
+    if (it == cloud.fields.end()) {
+      error = std::string("point cloud has no '") + names[k] + "' field";
+      return false;
+    }
+    if (it->datatype != sensor_msgs::PointField::FLOAT32 &&
+        it->datatype != sensor_msgs::PointField::FLOAT64) {
+      error = std::string("point cloud field '") + names[k] + "' has datatype " +
+              datatypeName(it->datatype) + " (" + std::to_string(it->datatype) +
+              "); only FLOAT32 and FLOAT64 are supported";
+      return false;
+    }
+    isDouble[k] = it->datatype == sensor_msgs::PointField::FLOAT64;
+    const std::uint64_t size = isDouble[k] ? 8 : 4;
+    if (static_cast<std::uint64_t>(it->offset) + size > step) {
+      error = "point_step " + std::to_string(step) + " is too small for field '" + names[k] +
+              "' (offset " + std::to_string(it->offset) + ", " + std::to_string(size) + " bytes)";
+      return false;
+    }
+    offset[k] = it->offset;
+  }
+
+  // Rows are row_step apart when height > 1; a single row only needs width * point_step bytes.
+  const std::uint64_t rowBytes = width * step;
+  const std::uint64_t rowStep = height > 1 ? cloud.row_step : rowBytes;
+  if (rowStep < rowBytes) {
+    error = "row_step " + std::to_string(rowStep) + " is smaller than width * point_step = " +
+            std::to_string(rowBytes);
+    return false;
+  }
+  const std::uint64_t needed = rowStep * (height - 1) + rowBytes;
+  if (cloud.data.size() < needed) {
+    error = "point cloud data has " + std::to_string(cloud.data.size()) + " bytes, " +
+            std::to_string(needed) + " needed for " + std::to_string(width) + " x " +
+            std::to_string(height) + " points of " + std::to_string(step) + " bytes";
+    return false;
+  }
+
+  MatrixX3d out(static_cast<Eigen::Index>(n), 3);
+  Eigen::Index i = 0;
+  for (std::uint64_t r = 0; r < height; ++r) {
+    const std::uint8_t* row = cloud.data.data() + r * rowStep;
+    for (std::uint64_t c = 0; c < width; ++c, ++i) {
+      const std::uint8_t* pt = row + c * step;
+      for (int k = 0; k < 3; ++k) {
+        if (isDouble[k]) {
+          double v;
+          std::memcpy(&v, pt + offset[k], sizeof v);
+          out(i, k) = v;
+        } else {
+          float v;
+          std::memcpy(&v, pt + offset[k], sizeof v);
+          out(i, k) = static_cast<double>(v);
+        }
+      }
+    }
+  }
+  V = std::move(out);
+  return true;
+}
+
+bool fromMsg(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& error) {
+  TriMesh out;
+  if (!pointCloudToVertices(msg.cloud, out.V, error)) return false;
+  const std::uint64_t n = static_cast<std::uint64_t>(out.V.rows());
+
+  std::size_t triangles = 0;
+  for (std::size_t p = 0; p < msg.polygons.size(); ++p) {
+    const auto& verts = msg.polygons[p].vertices;
+    if (verts.size() < 3) {
+      error = "polygon " + std::to_string(p) + " has " + std::to_string(verts.size()) +
+              " vertices; at least 3 are needed";
+      return false;
+    }
+    for (const std::uint32_t v : verts)
+      if (v >= n) {
+        error = "polygon " + std::to_string(p) + " refers to vertex " + std::to_string(v) +
+                " but the cloud has " + std::to_string(n) + " points";
+        return false;
+      }
+    triangles += verts.size() - 2;
+  }
+  if (triangles > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    error = "too many triangles";
+    return false;
+  }
+
+  out.F.resize(static_cast<Eigen::Index>(triangles), 3);
+  Eigen::Index f = 0;
+  for (const auto& poly : msg.polygons) {
+    const auto& v = poly.vertices;
+    for (std::size_t k = 1; k + 1 < v.size(); ++k, ++f) {  // fan around the first corner
+      out.F(f, 0) = static_cast<int>(v[0]);
+      out.F(f, 1) = static_cast<int>(v[k]);
+      out.F(f, 2) = static_cast<int>(v[k + 1]);
+    }
+  }
+  mesh = std::move(out);
+  return true;
+}
+
+void toMsg(const TriMesh& mesh, const std_msgs::Header& header, pcl_msgs::PolygonMesh& msg) {
+  msg.header = header;
+  sensor_msgs::PointCloud2& c = msg.cloud;
+  c.header = header;
+  c.height = 1;
+  c.width = static_cast<std::uint32_t>(mesh.V.rows());
+  c.fields.resize(3);
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    c.fields[k].name = names[k];
+    c.fields[k].offset = static_cast<std::uint32_t>(4 * k);
+    c.fields[k].datatype = sensor_msgs::PointField::FLOAT32;
+    c.fields[k].count = 1;
+  }
+  c.is_bigendian = false;
+  c.point_step = 12;
+  c.row_step = c.point_step * c.width;
+  c.is_dense = true;
+  c.data.resize(static_cast<std::size_t>(c.row_step));
+  std::uint8_t* out = c.data.data();
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    for (int k = 0; k < 3; ++k, out += 4) {
+      const float v = static_cast<float>(mesh.V(i, k));
+      std::memcpy(out, &v, sizeof v);
+    }
+
+  msg.polygons.clear();
+  msg.polygons.reserve(static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (!faceIsValid(mesh, f)) continue;
+    pcl_msgs::Vertices v;
+    v.vertices = {static_cast<std::uint32_t>(mesh.F(f, 0)), static_cast<std::uint32_t>(mesh.F(f, 1)),
+                  static_cast<std::uint32_t>(mesh.F(f, 2))};
+    msg.polygons.push_back(std::move(v));
+  }
+}
+
+visualization_msgs::Marker toTriangleListMarker(const TriMesh& mesh, const std::string& frame_id,
+                                                const std::string& ns, int id,
+                                                const std_msgs::ColorRGBA& color) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = frame_id;
+  m.ns = ns;
+  m.id = id;
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.x = 0.0;
+  m.pose.orientation.y = 0.0;
+  m.pose.orientation.z = 0.0;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color = color;
+  m.points.reserve(static_cast<std::size_t>(mesh.F.rows()) * 3);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (!faceIsValid(mesh, f)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const auto row = mesh.V.row(mesh.F(f, k));
+      geometry_msgs::Point p;
+      p.x = row(0);
+      p.y = row(1);
+      p.z = row(2);
+      m.points.push_back(p);
+    }
+  }
+  return m;
+}
+
+}  // namespace ros_conversions
+}  // namespace virtual_tryon
