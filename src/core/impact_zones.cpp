@@ -4,6 +4,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <unordered_map>
@@ -37,6 +38,9 @@ std::vector<std::vector<int>> groupImpactZones(const std::vector<Stencil>& stenc
 }
 
 namespace {
+
+constexpr int kDirectMaxStencils = 64;
+constexpr int kMaxSweeps = 500;
 
 // Gradient dot product of two stencils: sum over shared vertices of w_i w_j (n_i . n_j).
 double gradientDot(const Stencil& a, const Stencil& b) {
@@ -84,11 +88,13 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
   Eigen::VectorXd b(k);
   for (int i = 0; i < k; ++i) b[i] = d - stencils[zone[i]].D;
 
-  std::vector<char> active(static_cast<std::size_t>(k), 1);
+  // Small zones: an exact active-set solve of the KKT system. Large ones: Hildreth below.
+  const bool direct = k <= kDirectMaxStencils;
+  std::vector<char> active(static_cast<std::size_t>(k), direct ? 1 : 0);
   Eigen::VectorXd lambda = Eigen::VectorXd::Zero(k);
   const double tol = 1e-9 + 1e-6 * std::max(d, 0.0);
-  const int maxRounds = 50;
-  for (int round = 0; round < maxRounds; ++round) {
+  const int maxRounds = 30;
+  for (int round = 0; direct && round < maxRounds; ++round) {
     sol.active_set_rounds = round + 1;
     std::vector<int> idx;
     for (int i = 0; i < k; ++i)
@@ -136,17 +142,41 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
       }
     if (!added) break;
   }
-  // Should the active set still be cycling, polish with projected Gauss-Seidel on the full set.
-  if (sol.active_set_rounds >= maxRounds) {
-    Eigen::VectorXd diag = Afull.diagonal();
-    for (int sweep = 0; sweep < 200; ++sweep)
-      for (int c = 0; c < Afull.outerSize(); ++c) {
-        if (!(diag[c] > 0)) continue;
-        double r = b[c];
-        for (Eigen::SparseMatrix<double>::InnerIterator it(Afull, c); it; ++it)
-          if (it.row() != c) r -= it.value() * lambda[it.row()];
-        lambda[c] = std::max(0.0, r / diag[c]);
+  // A large zone, or an active set still cycling: Hildreth's method (projected Gauss-Seidel on the
+  // dual, carried out in displacement space: each step projects dx onto one stencil's half-space,
+  // never letting its lambda go negative). Cheap per step, and an approximate answer is enough
+  // here: the resolver detects again after every solve.
+  if (!direct || sol.active_set_rounds >= maxRounds) {
+    if (!direct) lambda.setZero();
+    for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
+    std::vector<Eigen::Vector3d> dx(sol.vertices.size(), Eigen::Vector3d::Zero());
+    std::vector<std::array<int, 3>> loc(static_cast<std::size_t>(k));
+    for (int i = 0; i < k; ++i) {
+      const Stencil& s = stencils[zone[i]];
+      for (int j = 0; j < s.count; ++j) {
+        loc[i][j] = local[s.vertex[j]];
+        dx[loc[i][j]] += lambda[i] * s.weight[j] * s.normal;
       }
+    }
+    const double stopTol = 1e-4 * std::max(d, 1e-12);
+    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+      double worst = 0;
+      for (int i = 0; i < k; ++i) {
+        const Stencil& s = stencils[zone[i]];
+        const double gg = Afull.coeff(i, i);
+        if (!(gg > 0)) continue;
+        double gdx = 0;
+        for (int j = 0; j < s.count; ++j) gdx += s.weight[j] * s.normal.dot(dx[loc[i][j]]);
+        const double r = b[i] - gdx;  // > 0: violated
+        worst = std::max(worst, r);
+        const double step = std::max(-lambda[i], r / gg);
+        if (step == 0) continue;
+        lambda[i] += step;
+        for (int j = 0; j < s.count; ++j) dx[loc[i][j]] += step * s.weight[j] * s.normal;
+      }
+      sol.sweeps = sweep + 1;
+      if (worst <= stopTol) break;
+    }
   }
   for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
 

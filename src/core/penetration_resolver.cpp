@@ -17,6 +17,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+double meanLength(const MatrixX3d& V, const MatrixX2i& E) {
+  double sum = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e) sum += (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
+  return E.rows() ? sum / static_cast<double>(E.rows()) : 0.0;
+}
+
 // Inside/outside for every garment vertex of a closed body, with one ray test per connected
 // piece: across a garment edge the side flips once per crossing of that edge with a body face.
 std::vector<char> classifyInside(const Body& body, const TriMesh& garment,
@@ -89,7 +95,7 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   const TriMesh original = garment;
   const GarmentTopology topo(garment);
   const double d = params.clearance > 0 ? params.clearance
-                                        : params.clearance_fraction * meanEdgeLength(garment);
+                                        : params.clearance_fraction * meanLength(garment.V, topo.edges);
   rep.clearance = d;
   const bool insideTest = params.check_inside && body.closed();
 

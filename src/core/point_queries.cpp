@@ -6,6 +6,9 @@
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace virtual_tryon {
 
 // Ericson, Real-Time Collision Detection, 5.1.5.
@@ -56,10 +59,52 @@ ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p) {
   return cp;
 }
 
-bool pointInsideBody(const Body& body, const Eigen::Vector3d& p) {
-  if (!body.closed()) return false;
+namespace {
+
+// Does segment [p, p + d] meet the box? (slab test)
+bool segmentHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, const fcl::AABBd& box) {
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 3; ++k) {
+    double a = (box.min_[k] - p[k]) * invD[k], b = (box.max_[k] - p[k]) * invD[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// Number of body faces the segment [p, q] crosses, walking the body's AABB tree.
+int countSegmentCrossings(const Body& body, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const FclModel& model = *body.bvh().model;
   const MatrixX3d& V = body.mesh().V;
   const MatrixX3i& F = body.mesh().F;
+  const Eigen::Vector3d d = q - p;
+  const Eigen::Vector3d invD(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
+  int hits = 0;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int id = stack.back();
+    stack.pop_back();
+    const auto& node = model.getBV(id);
+    if (!segmentHitsBox(p, invD, node.bv)) continue;
+    if (node.isLeaf()) {
+      const int f = node.primitiveId();
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      // Either orientation: a ray counts every surface it passes through.
+      if (segmentCrossesTriangle(p, q, a, b, c) || segmentCrossesTriangle(q, p, a, b, c)) ++hits;
+    } else {
+      stack.push_back(node.leftChild());
+      stack.push_back(node.rightChild());
+    }
+  }
+  return hits;
+}
+
+}  // namespace
+
+bool pointInsideBody(const Body& body, const Eigen::Vector3d& p) {
+  if (!body.closed()) return false;
   Eigen::Vector3d lo, hi;
   boundingBox(body.mesh(), lo, hi);
   if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return false;
@@ -69,21 +114,7 @@ bool pointInsideBody(const Body& body, const Eigen::Vector3d& p) {
       Eigen::Vector3d(-0.7071, 0.0123, 0.7069).normalized(),
       Eigen::Vector3d(0.0311, -0.9993, -0.0209).normalized()};
   int votes = 0;
-  for (const auto& d : dirs) {
-    const Eigen::Vector3d q = p + L * d;
-    int hits = 0;
-    for (Eigen::Index f = 0; f < F.rows(); ++f) {
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      // Cheap rejects before the full predicate.
-      if (std::max({a.x(), b.x(), c.x()}) < std::min(p.x(), q.x()) ||
-          std::min({a.x(), b.x(), c.x()}) > std::max(p.x(), q.x()) ||
-          std::max({a.y(), b.y(), c.y()}) < std::min(p.y(), q.y()) ||
-          std::min({a.y(), b.y(), c.y()}) > std::max(p.y(), q.y()))
-        continue;
-      if (segmentCrossesTriangle(p, q, a, b, c) || segmentCrossesTriangle(q, p, a, b, c)) ++hits;
-    }
-    votes += hits & 1;
-  }
+  for (const auto& d : dirs) votes += countSegmentCrossings(body, p, p + L * d) & 1;
   return votes >= 2;
 }
 

@@ -6,7 +6,8 @@
 // Beyond the paper, lambda is kept non-negative (a stencil may only push its vertices out, never
 // pull them in): an active-set loop drops stencils whose lambda would go negative and re-adds
 // those the others leave violated, so the result is the minimum-norm displacement with
-// D + Dx^T dx >= d. A tiny Tikhonov term keeps duplicate or parallel stencils solvable; a zone whose
+// D + Dx^T dx >= d. Zones of more than 64 stencils are solved instead by Hildreth's method (the same
+// problem, projected Gauss-Seidel on lambda >= 0, to a tolerance of 1e-4 d). A tiny Tikhonov term keeps duplicate or parallel stencils solvable; a zone whose
 // constraints still cannot all be met (opposing normals, the paper's Fig. 5) is marked infeasible.
 #pragma once
 
@@ -27,7 +28,8 @@ struct ZoneSolution {
   bool feasible = true;                  // every constraint met within tolerance
   double max_violation = 0;              // max(d - D - grad . dx, 0) after the solve, metres
   double condition_estimate = 1;         // max/min pivot of the LDL^T factorization
-  int active_set_rounds = 0;
+  int active_set_rounds = 0;            // exact solves of the active set (small zones)
+  int sweeps = 0;                       // Hildreth sweeps (large zones, or a cycling active set)
 };
 
 // Solves one zone for clearance d (metres).

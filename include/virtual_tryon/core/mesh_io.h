@@ -1,6 +1,17 @@
-// Reading and writing triangle meshes through PCL: OBJ, PLY and STL, chosen by the file's
-// extension (case-insensitive). Polygons with more than 3 sides are fan-triangulated;
-// polygons with fewer are dropped and counted.
+// Reading and writing triangle meshes: OBJ, PLY and STL, chosen by the file's extension
+// (case-insensitive). Polygons with more than 3 sides are fan-triangulated around their first
+// corner; polygons with fewer are dropped and counted.
+//
+//  * OBJ: own reader and writer. Reads `v` and `f` lines (`f a`, `a/b`, `a//c`, `a/b/c`, negative
+//    = relative indices), ignores everything else. Written in the shortest decimal form that
+//    reads back to the same double, so OBJ round trips are exact.
+//  * PLY: read through PCL (pcl::io::loadPLYFile, any float/double vertex layout, ASCII or
+//    binary); written as binary PLY with `double` x, y, z (exact round trip).
+//  * STL: read and written through PCL/VTK (pcl::io::loadPolygonFileSTL / savePolygonFileSTL,
+//    binary on write). STL stores float32 corners per triangle: reading welds exactly-equal
+//    coordinates into one vertex, numbered in order of first appearance in the face list, and
+//    VTK drops triangles made degenerate by the weld; unused vertices are not stored.
+// Vertex order is kept as in the file (OBJ, PLY) or by first appearance (STL).
 #pragma once
 
 #include "virtual_tryon/core/mesh.h"

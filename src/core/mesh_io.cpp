@@ -1,0 +1,559 @@
+// Mesh files: OBJ (own reader and writer), PLY (PCL reader, own double-precision writer),
+// STL (PCL/VTK reader and writer). See mesh_io.h.
+//
+// Why not PCL for everything:
+//  * pcl::io::loadOBJFile stores coordinates as float32, which would lose the precision the OBJ
+//    writer keeps; the reader below parses doubles (std::from_chars) and is faster.
+//  * pcl::io::savePLYFileBinary(PolygonMesh) only writes float32 x, y, z (and refuses FLOAT64
+//    clouds); the writer below writes `property double`, which PCL's PLY reader reads back.
+#include "virtual_tryon/core/mesh_io.h"
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/PCLPointField.h>
+#include <pcl/PolygonMesh.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/io/vtk_lib_io.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace virtual_tryon {
+namespace {
+
+enum class Format { Obj, Ply, Stl, Unknown };
+
+std::string extensionOf(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+Format formatOf(const std::string& path) {
+  const std::string ext = extensionOf(path);
+  if (ext == ".obj") return Format::Obj;
+  if (ext == ".ply") return Format::Ply;
+  if (ext == ".stl") return Format::Stl;
+  return Format::Unknown;
+}
+
+std::string unknownFormatMessage(const std::string& path) {
+  const std::string ext = extensionOf(path);
+  return "mesh file '" + path + "': " +
+         (ext.empty() ? std::string("has no extension")
+                      : "unknown extension '" + ext + "'") +
+         " (expected .obj, .ply or .stl)";
+}
+
+std::string fail(const std::string& path, const std::string& problem) {
+  return "mesh file '" + path + "': " + problem;
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+// Checks that `path` is an existing, readable, non-empty regular file. Run before handing the
+// path to PCL, whose readers (VTK for STL) only print their complaints to stderr.
+bool checkReadable(const std::string& path, std::string& error) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) {
+    error = fail(path, errno == ENOENT ? "no such file" : std::strerror(errno));
+    return false;
+  }
+  if (S_ISDIR(st.st_mode)) {
+    error = fail(path, "is a directory");
+    return false;
+  }
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    error = fail(path, std::string("cannot open: ") + std::strerror(errno));
+    return false;
+  }
+  if (S_ISREG(st.st_mode) && st.st_size == 0) {
+    error = fail(path, "file is empty");
+    return false;
+  }
+  return true;
+}
+
+bool readWholeFile(const std::string& path, std::string& text, std::string& error) {
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    error = fail(path, std::string("cannot open: ") + std::strerror(errno));
+    return false;
+  }
+  text.clear();
+  char buf[1 << 16];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof(buf), f.get())) > 0) text.append(buf, n);
+  if (std::ferror(f.get())) {
+    error = fail(path, "read error");
+    return false;
+  }
+  return true;
+}
+
+// Appends the triangles of one polygon (fan around its first corner) to `tris`.
+void addPolygon(const int* idx, std::size_t n, std::vector<int>& tris, MeshReadInfo& info) {
+  ++info.polygons_read;
+  if (n < 3) {
+    ++info.polygons_dropped;
+    return;
+  }
+  if (n > 3) ++info.polygons_triangulated;
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    tris.push_back(idx[0]);
+    tris.push_back(idx[k]);
+    tris.push_back(idx[k + 1]);
+  }
+}
+
+bool finish(const std::string& path, std::vector<double>& coords, std::vector<int>& tris,
+            TriMesh& mesh, std::string& error) {
+  const Eigen::Index nv = static_cast<Eigen::Index>(coords.size() / 3);
+  const Eigen::Index nf = static_cast<Eigen::Index>(tris.size() / 3);
+  if (nv == 0) {
+    error = fail(path, "no vertices");
+    return false;
+  }
+  if (nf == 0) {
+    error = fail(path, "no usable triangle (" + std::to_string(nv) + " vertices)");
+    return false;
+  }
+  mesh.V = Eigen::Map<const MatrixX3d>(coords.data(), nv, 3);
+  mesh.F = Eigen::Map<const MatrixX3i>(tris.data(), nf, 3);
+  return true;
+}
+
+// ----------------------------------------------------------------------------------------------
+// OBJ reader. Reads `v x y z [w | r g b]` and `f` lines (`f a`, `f a/b`, `f a//c`, `f a/b/c`,
+// negative = relative indices); everything else (vt, vn, g, o, s, usemtl, mtllib, l, p,
+// comments) is ignored.
+
+inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+inline const char* skipSpace(const char* p, const char* end) {
+  while (p < end && isSpace(*p)) ++p;
+  return p;
+}
+
+inline const char* tokenEnd(const char* p, const char* end) {
+  while (p < end && !isSpace(*p)) ++p;
+  return p;
+}
+
+bool parseDouble(const char* b, const char* e, double& value) {
+  if (b < e && *b == '+') ++b;
+  const auto r = std::from_chars(b, e, value);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+  std::string text;
+  if (!readWholeFile(path, text, error)) return false;
+
+  std::vector<double> coords;
+  std::vector<int> tris;
+  std::vector<int> poly;
+  coords.reserve(text.size() / 12);
+  tris.reserve(text.size() / 8);
+
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  std::size_t line = 0;
+  long long maxIndex = -1;  // largest positive index seen (0-based) and where
+  std::size_t maxIndexLine = 0;
+  auto lineError = [&](const std::string& what) {
+    error = fail(path, "line " + std::to_string(line) + ": " + what);
+    return false;
+  };
+
+  while (p < end) {
+    ++line;
+    const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (!eol) eol = end;
+    const char* q = skipSpace(p, eol);
+    const char* const next = eol < end ? eol + 1 : end;
+    if (q == eol || *q == '#') {
+      p = next;
+      continue;
+    }
+    const char* kw = q;
+    const char* kwEnd = tokenEnd(q, eol);
+    const std::size_t kwLen = static_cast<std::size_t>(kwEnd - kw);
+
+    if (kwLen == 1 && kw[0] == 'v') {
+      double xyz[3];
+      const char* t = kwEnd;
+      for (int k = 0; k < 3; ++k) {
+        t = skipSpace(t, eol);
+        const char* te = tokenEnd(t, eol);
+        if (t == te) return lineError("vertex with fewer than 3 coordinates");
+        if (!parseDouble(t, te, xyz[k]))
+          return lineError("bad vertex coordinate '" + std::string(t, te) + "'");
+        if (!std::isfinite(xyz[k])) return lineError("non-finite vertex coordinate");
+        t = te;
+      }
+      coords.insert(coords.end(), xyz, xyz + 3);
+    } else if (kwLen == 1 && kw[0] == 'f') {
+      poly.clear();
+      const long long nv = static_cast<long long>(coords.size() / 3);
+      const char* t = skipSpace(kwEnd, eol);
+      while (t < eol) {
+        const char* te = tokenEnd(t, eol);
+        const char* slash = static_cast<const char*>(std::memchr(t, '/', static_cast<std::size_t>(te - t)));
+        const char* ie = slash ? slash : te;
+        const char* ib = t;
+        if (ib < ie && *ib == '+') ++ib;
+        long long v = 0;
+        const auto r = std::from_chars(ib, ie, v);
+        if (r.ec != std::errc() || r.ptr != ie)
+          return lineError("bad face index '" + std::string(t, te) + "'");
+        long long idx;
+        if (v > 0) {
+          idx = v - 1;  // checked against the final vertex count below
+          if (idx > maxIndex) {
+            maxIndex = idx;
+            maxIndexLine = line;
+          }
+        } else if (v < 0) {
+          idx = nv + v;  // relative to the vertices read so far
+          if (idx < 0)
+            return lineError("relative face index " + std::to_string(v) + " but only " +
+                             std::to_string(nv) + " vertices before it");
+        } else {
+          return lineError("face index 0 (OBJ indices start at 1)");
+        }
+        if (idx > std::numeric_limits<int>::max()) return lineError("face index too large");
+        poly.push_back(static_cast<int>(idx));
+        t = skipSpace(te, eol);
+      }
+      addPolygon(poly.data(), poly.size(), tris, info);
+    }
+    p = next;
+  }
+
+  const long long nv = static_cast<long long>(coords.size() / 3);
+  if (maxIndex >= nv) {
+    line = maxIndexLine;
+    return lineError("face index " + std::to_string(maxIndex + 1) + " out of range: the file has " +
+                     std::to_string(nv) + " vertices");
+  }
+  return finish(path, coords, tris, mesh, error);
+}
+
+// ----------------------------------------------------------------------------------------------
+// pcl::PolygonMesh -> TriMesh, reading x, y, z by name and offset (FLOAT32 or FLOAT64).
+
+bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, TriMesh& mesh,
+                          std::string& error, MeshReadInfo& info) {
+  const pcl::PCLPointCloud2& c = pm.cloud;
+  const std::uint64_t n = static_cast<std::uint64_t>(c.width) * c.height;
+  if (n == 0) {
+    error = fail(path, "no vertices");
+    return false;
+  }
+  if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
+    error = fail(path, "too many vertices");
+    return false;
+  }
+  if (c.is_bigendian) {
+    error = fail(path, "big-endian point data is not supported");
+    return false;
+  }
+  std::uint32_t off[3];
+  std::uint8_t type[3];
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    const auto it = std::find_if(c.fields.begin(), c.fields.end(),
+                                 [&](const pcl::PCLPointField& f) { return f.name == names[k]; });
+    if (it == c.fields.end()) {
+      error = fail(path, std::string("vertices have no '") + names[k] + "' field");
+      return false;
+    }
+    if (it->datatype != pcl::PCLPointField::FLOAT32 && it->datatype != pcl::PCLPointField::FLOAT64) {
+      error = fail(path, std::string("field '") + names[k] + "' is neither float32 nor float64");
+      return false;
+    }
+    const std::uint32_t size = it->datatype == pcl::PCLPointField::FLOAT32 ? 4 : 8;
+    if (static_cast<std::uint64_t>(it->offset) + size > c.point_step) {
+      error = fail(path, std::string("field '") + names[k] + "' lies outside the point step");
+      return false;
+    }
+    off[k] = it->offset;
+    type[k] = it->datatype;
+  }
+  const std::uint64_t rowStep = c.height > 1 ? c.row_step : static_cast<std::uint64_t>(c.width) * c.point_step;
+  if (rowStep < static_cast<std::uint64_t>(c.width) * c.point_step ||
+      c.data.size() < rowStep * (c.height - 1) + static_cast<std::uint64_t>(c.width) * c.point_step) {
+    error = fail(path, "point data shorter than the declared size");
+    return false;
+  }
+
+  std::vector<double> coords(static_cast<std::size_t>(n) * 3);
+  std::size_t i = 0;
+  for (std::uint32_t r = 0; r < c.height; ++r)
+    for (std::uint32_t col = 0; col < c.width; ++col, ++i) {
+      const std::uint8_t* pt = c.data.data() + r * rowStep + static_cast<std::uint64_t>(col) * c.point_step;
+      for (int k = 0; k < 3; ++k) {
+        double v;
+        if (type[k] == pcl::PCLPointField::FLOAT32) {
+          float fv;
+          std::memcpy(&fv, pt + off[k], sizeof fv);
+          v = fv;
+        } else {
+          std::memcpy(&v, pt + off[k], sizeof v);
+        }
+        coords[3 * i + k] = v;
+      }
+    }
+
+  std::vector<int> tris;
+  tris.reserve(pm.polygons.size() * 3);
+  std::vector<int> poly;
+  for (std::size_t p = 0; p < pm.polygons.size(); ++p) {
+    const auto& verts = pm.polygons[p].vertices;
+    poly.resize(verts.size());
+    for (std::size_t k = 0; k < verts.size(); ++k) {
+      if (static_cast<std::uint64_t>(verts[k]) >= n) {
+        error = fail(path, "polygon " + std::to_string(p) + " refers to vertex " +
+                               std::to_string(verts[k]) + " but the file has " + std::to_string(n) +
+                               " vertices");
+        return false;
+      }
+      poly[k] = static_cast<int>(verts[k]);
+    }
+    addPolygon(poly.data(), poly.size(), tris, info);
+  }
+  return finish(path, coords, tris, mesh, error);
+}
+
+bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+  pcl::PolygonMesh pm;
+  if (pcl::io::loadPLYFile(path, pm) < 0) {
+    error = fail(path, "PCL could not parse it as PLY");
+    return false;
+  }
+  return polygonMeshToTriMesh(path, pm, mesh, error, info);
+}
+
+bool readStl(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+  // VTK's vtkSTLReader (behind PCL) merges exactly-equal corner coordinates into one vertex,
+  // numbered in order of first appearance, and drops triangles that become degenerate by it.
+  pcl::PolygonMesh pm;
+  if (pcl::io::loadPolygonFileSTL(path, pm) <= 0) {
+    error = fail(path, "PCL/VTK could not read it as STL (or it holds no triangle)");
+    return false;
+  }
+  return polygonMeshToTriMesh(path, pm, mesh, error, info);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Writers.
+
+bool checkIndices(const std::string& path, const TriMesh& mesh, std::string& error) {
+  const Eigen::Index n = mesh.V.rows();
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (mesh.F(f, k) < 0 || mesh.F(f, k) >= n) {
+        error = fail(path, "not written: face " + std::to_string(f) + " has vertex index " +
+                               std::to_string(mesh.F(f, k)) + " outside [0, " + std::to_string(n) + ")");
+        return false;
+      }
+  return true;
+}
+
+bool writeBuffer(const std::string& path, const std::string& buf, std::string& error) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) {
+    error = fail(path, std::string("cannot open for writing: ") + std::strerror(errno));
+    return false;
+  }
+  const std::size_t written = std::fwrite(buf.data(), 1, buf.size(), f);
+  const bool ok = written == buf.size() && !std::ferror(f);
+  if (std::fclose(f) != 0 || !ok) {
+    error = fail(path, std::string("write failed: ") + std::strerror(errno));
+    return false;
+  }
+  return true;
+}
+
+// Shortest decimal form that reads back to exactly the same double.
+inline void appendDouble(std::string& s, double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  s.append(buf, r.ptr);
+}
+
+inline void appendInt(std::string& s, long long v) {
+  char buf[24];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  s.append(buf, r.ptr);
+}
+
+bool writeObj(const std::string& path, const TriMesh& mesh, std::string& error) {
+  std::string s;
+  s.reserve(static_cast<std::size_t>(mesh.V.rows()) * 40 + static_cast<std::size_t>(mesh.F.rows()) * 24 + 128);
+  s += "# virtual_tryon: ";
+  appendInt(s, mesh.V.rows());
+  s += " vertices, ";
+  appendInt(s, mesh.F.rows());
+  s += " triangles\n";
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+    s += 'v';
+    for (int k = 0; k < 3; ++k) {
+      s += ' ';
+      appendDouble(s, mesh.V(i, k));
+    }
+    s += '\n';
+  }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    s += 'f';
+    for (int k = 0; k < 3; ++k) {
+      s += ' ';
+      appendInt(s, static_cast<long long>(mesh.F(f, k)) + 1);
+    }
+    s += '\n';
+  }
+  return writeBuffer(path, s, error);
+}
+
+template <typename T>
+inline void appendRaw(std::string& s, const T& v) {
+  s.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+bool hostIsLittleEndian() {
+  const std::uint16_t one = 1;
+  unsigned char b;
+  std::memcpy(&b, &one, 1);
+  return b == 1;
+}
+
+bool writePly(const std::string& path, const TriMesh& mesh, std::string& error) {
+  std::string s;
+  s += "ply\nformat ";
+  s += hostIsLittleEndian() ? "binary_little_endian" : "binary_big_endian";
+  s += " 1.0\ncomment virtual_tryon\nelement vertex ";
+  appendInt(s, mesh.V.rows());
+  s += "\nproperty double x\nproperty double y\nproperty double z\nelement face ";
+  appendInt(s, mesh.F.rows());
+  s += "\nproperty list uchar int vertex_indices\nend_header\n";
+  s.reserve(s.size() + static_cast<std::size_t>(mesh.V.rows()) * 24 + static_cast<std::size_t>(mesh.F.rows()) * 13);
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) appendRaw(s, mesh.V(i, k));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    appendRaw(s, static_cast<std::uint8_t>(3));
+    for (int k = 0; k < 3; ++k) appendRaw(s, static_cast<std::int32_t>(mesh.F(f, k)));
+  }
+  return writeBuffer(path, s, error);
+}
+
+bool writeStl(const std::string& path, const TriMesh& mesh, std::string& error) {
+  if (mesh.F.rows() == 0) {
+    error = fail(path, "not written: an STL file cannot hold a mesh without faces");
+    return false;
+  }
+  pcl::PolygonMesh pm;
+  pcl::PCLPointCloud2& c = pm.cloud;
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    pcl::PCLPointField f;
+    f.name = names[k];
+    f.offset = static_cast<std::uint32_t>(4 * k);
+    f.datatype = pcl::PCLPointField::FLOAT32;
+    f.count = 1;
+    c.fields.push_back(f);
+  }
+  c.height = 1;
+  c.width = static_cast<std::uint32_t>(mesh.V.rows());
+  c.point_step = 12;
+  c.row_step = c.point_step * c.width;
+  c.is_dense = true;
+  c.is_bigendian = false;
+  c.data.resize(static_cast<std::size_t>(c.row_step));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float v = static_cast<float>(mesh.V(i, k));
+      std::memcpy(c.data.data() + 12 * i + 4 * k, &v, sizeof v);
+    }
+  pm.polygons.resize(static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    pm.polygons[f].vertices.assign(mesh.F.row(f).data(), mesh.F.row(f).data() + 3);
+  // Probe writability first: VTK only prints its complaint to stderr.
+  {
+    FilePtr probe(std::fopen(path.c_str(), "wb"));
+    if (!probe) {
+      error = fail(path, std::string("cannot open for writing: ") + std::strerror(errno));
+      return false;
+    }
+  }
+  if (pcl::io::savePolygonFileSTL(path, pm, /*binary_format=*/true) == 0) {
+    error = fail(path, "PCL/VTK failed to write STL");
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool readMesh(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo* info) {
+  const Format format = formatOf(path);
+  if (format == Format::Unknown) {
+    error = unknownFormatMessage(path);
+    return false;
+  }
+  if (!checkReadable(path, error)) return false;
+  MeshReadInfo localInfo;
+  TriMesh result;
+  bool ok = false;
+  switch (format) {
+    case Format::Obj: ok = readObj(path, result, error, localInfo); break;
+    case Format::Ply: ok = readPly(path, result, error, localInfo); break;
+    case Format::Stl: ok = readStl(path, result, error, localInfo); break;
+    case Format::Unknown: break;
+  }
+  if (!ok) return false;
+  mesh = std::move(result);
+  if (info) *info = localInfo;
+  error.clear();
+  return true;
+}
+
+bool writeMesh(const std::string& path, const TriMesh& mesh, std::string& error) {
+  const Format format = formatOf(path);
+  if (format == Format::Unknown) {
+    error = unknownFormatMessage(path);
+    return false;
+  }
+  if (!checkIndices(path, mesh, error)) return false;
+  bool ok = false;
+  switch (format) {
+    case Format::Obj: ok = writeObj(path, mesh, error); break;
+    case Format::Ply: ok = writePly(path, mesh, error); break;
+    case Format::Stl: ok = writeStl(path, mesh, error); break;
+    case Format::Unknown: break;
+  }
+  if (ok) error.clear();
+  return ok;
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,326 @@
+#include "virtual_tryon/core/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+namespace vt = virtual_tryon;
+
+namespace {
+
+// A fresh directory under ::testing::TempDir(), removed with its files at the end of the test.
+class MeshIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string tmpl = ::testing::TempDir();
+    if (tmpl.empty() || tmpl.back() != '/') tmpl += '/';
+    tmpl += "mesh_io_XXXXXX";
+    ASSERT_NE(mkdtemp(&tmpl[0]), nullptr);
+    dir_ = tmpl;
+  }
+  void TearDown() override {
+    for (const auto& f : files_) std::remove(f.c_str());
+    if (!dir_.empty()) rmdir(dir_.c_str());
+  }
+  std::string path(const std::string& name) {
+    files_.push_back(dir_ + "/" + name);
+    return files_.back();
+  }
+  std::string writeText(const std::string& name, const std::string& text) {
+    const std::string p = path(name);
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  std::string dir_;
+  std::vector<std::string> files_;
+};
+
+// Closed, outward-oriented tetrahedron with coordinates that are not exact in float32.
+vt::TriMesh tetrahedron() {
+  vt::TriMesh m;
+  m.V.resize(4, 3);
+  m.V << 0.1, 0.2, 0.30000000000000004,  //
+      1.0 / 3.0, -0.7, 0.123456789012345,  //
+      -2.5e-7, 1.25, 0.5,                  //
+      0.3, 0.4, 1.1;
+  m.F.resize(4, 3);
+  m.F << 0, 2, 1,  //
+      0, 1, 3,     //
+      0, 3, 2,     //
+      1, 2, 3;
+  return m;
+}
+
+void expectSameTopology(const vt::TriMesh& a, const vt::TriMesh& b) {
+  ASSERT_EQ(a.V.rows(), b.V.rows());
+  ASSERT_EQ(a.F.rows(), b.F.rows());
+  EXPECT_TRUE((a.F.array() == b.F.array()).all()) << "a.F=\n" << a.F << "\nb.F=\n" << b.F;
+}
+
+}  // namespace
+
+TEST_F(MeshIoTest, ObjRoundTripIsExact) {
+  const vt::TriMesh m = tetrahedron();
+  std::string error;
+  const std::string p = path("tet.obj");
+  ASSERT_TRUE(vt::writeMesh(p, m, error)) << error;
+  vt::TriMesh r;
+  vt::MeshReadInfo info;
+  ASSERT_TRUE(vt::readMesh(p, r, error, &info)) << error;
+  EXPECT_TRUE(error.empty());
+  expectSameTopology(m, r);
+  EXPECT_TRUE((m.V.array() == r.V.array()).all()) << "OBJ must round-trip doubles exactly";
+  EXPECT_EQ(info.polygons_read, 4u);
+  EXPECT_EQ(info.polygons_triangulated, 0u);
+  EXPECT_EQ(info.polygons_dropped, 0u);
+}
+
+TEST_F(MeshIoTest, PlyRoundTripIsExact) {
+  const vt::TriMesh m = tetrahedron();
+  std::string error;
+  const std::string p = path("tet.PLY");  // extension is case-insensitive
+  ASSERT_TRUE(vt::writeMesh(p, m, error)) << error;
+  vt::TriMesh r;
+  ASSERT_TRUE(vt::readMesh(p, r, error)) << error;
+  expectSameTopology(m, r);
+  EXPECT_TRUE((m.V.array() == r.V.array()).all()) << "PLY is written with double coordinates";
+}
+
+TEST_F(MeshIoTest, StlRoundTripWithinFloatPrecision) {
+  // STL stores float32 corners per triangle; reading welds equal corners and numbers the
+  // vertices by first appearance in the face list (here 0, 2, 1, 3), faces keep their order.
+  const vt::TriMesh m = tetrahedron();
+  std::string error;
+  const std::string p = path("tet.stl");
+  ASSERT_TRUE(vt::writeMesh(p, m, error)) << error;
+  vt::TriMesh r;
+  vt::MeshReadInfo info;
+  ASSERT_TRUE(vt::readMesh(p, r, error, &info)) << error;
+  ASSERT_EQ(r.V.rows(), 4);
+  ASSERT_EQ(r.F.rows(), 4);
+  EXPECT_EQ(info.polygons_read, 4u);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d)
+        EXPECT_EQ(r.V(r.F(f, k), d), static_cast<double>(static_cast<float>(m.V(m.F(f, k), d))))
+            << "face " << f << " corner " << k;
+  const int firstAppearance[4] = {0, 2, 1, 3};
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR((r.V.row(i) - m.V.row(firstAppearance[i])).norm(), 0.0, 1e-6) << i;
+}
+
+TEST_F(MeshIoTest, AsciiStlIsWeldedInOrderOfFirstAppearance) {
+  const std::string p = writeText("quad.stl",
+                                  "solid quad\n"
+                                  "facet normal 0 0 1\n outer loop\n"
+                                  "  vertex 0 0 0\n  vertex 1 0 0\n  vertex 1 1 0\n"
+                                  " endloop\nendfacet\n"
+                                  "facet normal 0 0 1\n outer loop\n"
+                                  "  vertex 0 0 0\n  vertex 1 1 0\n  vertex 0 1 0\n"
+                                  " endloop\nendfacet\n"
+                                  "endsolid quad\n");
+  vt::TriMesh r;
+  std::string error;
+  ASSERT_TRUE(vt::readMesh(p, r, error)) << error;
+  ASSERT_EQ(r.V.rows(), 4);
+  ASSERT_EQ(r.F.rows(), 2);
+  EXPECT_EQ(r.V.row(2), Eigen::RowVector3d(1, 1, 0));
+  EXPECT_EQ(r.V.row(3), Eigen::RowVector3d(0, 1, 0));
+  EXPECT_EQ(r.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(r.F.row(1), Eigen::RowVector3i(0, 2, 3));
+}
+
+TEST_F(MeshIoTest, ObjNgonsSlashFormsCommentsAndNegativeIndices) {
+  const std::string p = writeText("ngon.obj",
+                                  "# a quad, a pentagon, a relative triangle and a 2-gon\r\n"
+                                  "mtllib none.mtl\n"
+                                  "o thing\n"
+                                  "v 0 0 0\n"
+                                  "v 1 0 0\n"
+                                  "v 1 1 0 1.0\n"  // optional w
+                                  "v 0 1 0 0.5 0.5 0.5\n"  // vertex colour
+                                  "vt 0 0\n"
+                                  "vn 0 0 1\n"
+                                  "\tv  +0.5   2   -1e-3  \r\n"
+                                  "g group1\n"
+                                  "usemtl skin\n"
+                                  "s off\n"
+                                  "f 1/1/1 2/1/1 3/1/1 4/1/1\n"
+                                  "f 1//1 2//1 3//1 5//1 4//1\r\n"
+                                  "f -5/1 -4/1 -1/1   \n"
+                                  "f 1 2\n"
+                                  "l 1 2 3\n");
+  vt::TriMesh r;
+  vt::MeshReadInfo info;
+  std::string error;
+  ASSERT_TRUE(vt::readMesh(p, r, error, &info)) << error;
+  ASSERT_EQ(r.V.rows(), 5);
+  EXPECT_EQ(r.V.row(4), Eigen::RowVector3d(0.5, 2, -1e-3));
+  EXPECT_EQ(r.V.row(2), Eigen::RowVector3d(1, 1, 0));
+  ASSERT_EQ(r.F.rows(), 2 + 3 + 1);
+  EXPECT_EQ(info.polygons_read, 4u);
+  EXPECT_EQ(info.polygons_triangulated, 2u);
+  EXPECT_EQ(info.polygons_dropped, 1u);
+  // Fan around the first corner.
+  EXPECT_EQ(r.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(r.F.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(r.F.row(2), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(r.F.row(3), Eigen::RowVector3i(0, 2, 4));
+  EXPECT_EQ(r.F.row(4), Eigen::RowVector3i(0, 4, 3));
+  EXPECT_EQ(r.F.row(5), Eigen::RowVector3i(0, 1, 4));
+}
+
+TEST_F(MeshIoTest, PlyPolygonsAreTriangulatedAndCounted) {
+  const std::string p = writeText("ngon.ply",
+                                  "ply\nformat ascii 1.0\n"
+                                  "element vertex 5\n"
+                                  "property float x\nproperty float y\nproperty float z\n"
+                                  "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                                  "element face 3\n"
+                                  "property list uchar uint vertex_indices\n"
+                                  "end_header\n"
+                                  "0 0 0 255 0 0\n1 0 0 255 0 0\n1 1 0 255 0 0\n0 1 0 255 0 0\n"
+                                  "0.5 2 0 255 0 0\n"
+                                  "4 0 1 2 3\n3 0 2 4\n2 0 1\n");
+  vt::TriMesh r;
+  vt::MeshReadInfo info;
+  std::string error;
+  ASSERT_TRUE(vt::readMesh(p, r, error, &info)) << error;
+  EXPECT_EQ(r.V.rows(), 5);
+  ASSERT_EQ(r.F.rows(), 3);
+  EXPECT_EQ(r.F.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(r.V.row(4), Eigen::RowVector3d(0.5, 2, 0));
+  EXPECT_EQ(info.polygons_read, 3u);
+  EXPECT_EQ(info.polygons_triangulated, 1u);
+  EXPECT_EQ(info.polygons_dropped, 1u);
+}
+
+TEST_F(MeshIoTest, ObjIndexErrorsNameFileAndLine) {
+  struct Case {
+    const char* name;
+    const char* body;
+    const char* expect;  // substring of the message
+  };
+  const Case cases[] = {
+      {"too_big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "line 4"},
+      {"too_negative.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", "line 3"},
+      {"zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "index 0"},
+      {"garbage_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "bad face index"},
+      {"short_vertex.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 1"},
+      {"bad_number.obj", "v 0 0 zero\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bad vertex coordinate"},
+      {"nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "non-finite"},
+      {"no_faces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no usable triangle"},
+      {"only_2gons.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "no usable triangle"},
+      {"comments_only.obj", "# nothing\n", "no vertices"},
+  };
+  for (const Case& c : cases) {
+    const std::string p = writeText(c.name, c.body);
+    vt::TriMesh r;
+    std::string error;
+    EXPECT_FALSE(vt::readMesh(p, r, error)) << c.name;
+    EXPECT_NE(error.find(p), std::string::npos) << c.name << ": " << error;
+    EXPECT_NE(error.find(c.expect), std::string::npos) << c.name << ": " << error;
+  }
+}
+
+TEST_F(MeshIoTest, PlyIndexOutOfRangeFails) {
+  const std::string p = writeText("bad.ply",
+                                  "ply\nformat ascii 1.0\nelement vertex 3\n"
+                                  "property double x\nproperty double y\nproperty double z\n"
+                                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  vt::TriMesh r;
+  std::string error;
+  EXPECT_FALSE(vt::readMesh(p, r, error));
+  EXPECT_NE(error.find(p), std::string::npos) << error;
+  EXPECT_NE(error.find("vertex 7"), std::string::npos) << error;
+}
+
+TEST_F(MeshIoTest, MissingFileNamesTheFile) {
+  for (const char* name : {"missing.obj", "missing.ply", "missing.stl"}) {
+    const std::string p = dir_ + "/" + name;
+    vt::TriMesh r;
+    std::string error;
+    EXPECT_FALSE(vt::readMesh(p, r, error));
+    EXPECT_NE(error.find(p), std::string::npos) << error;
+    EXPECT_NE(error.find("no such file"), std::string::npos) << error;
+  }
+}
+
+TEST_F(MeshIoTest, UnknownExtensionFails) {
+  const vt::TriMesh m = tetrahedron();
+  for (const char* name : {"mesh.off", "mesh", "dir.obj/mesh"}) {
+    const std::string p = path(name);
+    std::string error;
+    EXPECT_FALSE(vt::writeMesh(p, m, error)) << name;
+    EXPECT_NE(error.find("extension"), std::string::npos) << error;
+    vt::TriMesh r;
+    error.clear();
+    EXPECT_FALSE(vt::readMesh(p, r, error)) << name;
+    EXPECT_NE(error.find(p), std::string::npos) << error;
+    EXPECT_NE(error.find("extension"), std::string::npos) << error;
+  }
+}
+
+TEST_F(MeshIoTest, EmptyFileFails) {
+  for (const char* name : {"empty.obj", "empty.ply", "empty.stl"}) {
+    const std::string p = writeText(name, "");
+    vt::TriMesh r;
+    std::string error;
+    EXPECT_FALSE(vt::readMesh(p, r, error)) << name;
+    EXPECT_NE(error.find(p), std::string::npos) << error;
+    EXPECT_NE(error.find("empty"), std::string::npos) << error;
+  }
+}
+
+TEST_F(MeshIoTest, GarbageFilesFailWithoutTouchingTheMesh) {
+  vt::TriMesh r = tetrahedron();
+  for (const char* name : {"garbage.ply", "garbage.stl"}) {
+    const std::string p = writeText(name, "this is not a mesh\n");
+    std::string error;
+    EXPECT_FALSE(vt::readMesh(p, r, error)) << name;
+    EXPECT_NE(error.find(p), std::string::npos) << error;
+  }
+  EXPECT_EQ(r.V.rows(), 4);  // left as it was
+  EXPECT_EQ(r.F.rows(), 4);
+}
+
+TEST_F(MeshIoTest, WriteRejectsBadIndicesAndUnwritablePaths) {
+  vt::TriMesh m = tetrahedron();
+  m.F(2, 1) = 4;
+  std::string error;
+  EXPECT_FALSE(vt::writeMesh(path("bad.obj"), m, error));
+  EXPECT_NE(error.find("face 2"), std::string::npos) << error;
+
+  const vt::TriMesh good = tetrahedron();
+  for (const char* name : {"/no/such/dir/x.obj", "/no/such/dir/x.ply", "/no/such/dir/x.stl"}) {
+    const std::string p = dir_ + name;
+    error.clear();
+    EXPECT_FALSE(vt::writeMesh(p, good, error)) << name;
+    EXPECT_NE(error.find(p), std::string::npos) << error;
+  }
+}
+
+TEST_F(MeshIoTest, VertexOrderAndUnusedVerticesSurviveObjAndPly) {
+  // Vertex 1 is unused and vertices are referenced out of order.
+  vt::TriMesh m;
+  m.V.resize(5, 3);
+  m.V << 0, 0, 0, 9, 9, 9, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  m.F.resize(2, 3);
+  m.F << 4, 3, 2, 0, 2, 3;
+  for (const char* name : {"order.obj", "order.ply"}) {
+    const std::string p = path(name);
+    std::string error;
+    ASSERT_TRUE(vt::writeMesh(p, m, error)) << error;
+    vt::TriMesh r;
+    ASSERT_TRUE(vt::readMesh(p, r, error)) << error;
+    expectSameTopology(m, r);
+    EXPECT_TRUE((m.V.array() == r.V.array()).all()) << name;
+  }
+}
