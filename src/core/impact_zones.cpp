@@ -41,6 +41,7 @@ namespace {
 
 constexpr int kDirectMaxStencils = 64;
 constexpr int kMaxSweeps = 500;
+constexpr int kMaxActiveSetRounds = 30;
 
 // Gradient dot product of two stencils: sum over shared vertices of w_i w_j (n_i . n_j).
 double gradientDot(const Stencil& a, const Stencil& b) {
@@ -57,23 +58,25 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
                              double d) {
   ZoneSolution sol;
   const int k = static_cast<int>(zone.size());
-  // Local vertex numbering.
+  // Local vertex numbering; loc[i][j] is stencil i's j-th vertex.
   std::unordered_map<int, int> local;
-  for (int i : zone)
-    for (int j = 0; j < stencils[i].count; ++j)
-      if (local.emplace(stencils[i].vertex[j], static_cast<int>(sol.vertices.size())).second)
-        sol.vertices.push_back(stencils[i].vertex[j]);
-  // Stencils per local vertex, to assemble only the non-zero entries of Dx^T Dx.
-  std::vector<std::vector<int>> byVertex(sol.vertices.size());
+  std::vector<std::array<int, 3>> loc(static_cast<std::size_t>(k));
   for (int i = 0; i < k; ++i) {
     const Stencil& s = stencils[zone[i]];
-    for (int j = 0; j < s.count; ++j) byVertex[local[s.vertex[j]]].push_back(i);
+    for (int j = 0; j < s.count; ++j) {
+      auto it = local.emplace(s.vertex[j], static_cast<int>(sol.vertices.size()));
+      if (it.second) sol.vertices.push_back(s.vertex[j]);
+      loc[i][j] = it.first->second;
+    }
   }
+  // A = Dx^T Dx, assembled only where stencils share a vertex.
+  std::vector<std::vector<int>> byVertex(sol.vertices.size());
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < stencils[zone[i]].count; ++j) byVertex[loc[i][j]].push_back(i);
   std::vector<Eigen::Triplet<double>> trip;
   for (const auto& list : byVertex)
     for (int a : list)
-      for (int b : list)
-        if (a <= b) trip.emplace_back(a, b, 0.0);  // structure; values below
+      for (int b : list) trip.emplace_back(a, b, 0.0);  // structure; values below
   Eigen::SparseMatrix<double> A(k, k);
   A.setFromTriplets(trip.begin(), trip.end(), [](double x, double) { return x; });
   double maxDiag = 0;
@@ -82,94 +85,87 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
       it.valueRef() = gradientDot(stencils[zone[it.row()]], stencils[zone[it.col()]]);
       if (it.row() == it.col()) maxDiag = std::max(maxDiag, it.value());
     }
-  Eigen::SparseMatrix<double> Afull = A.selfadjointView<Eigen::Upper>();
+  const Eigen::VectorXd diag = A.diagonal();
   const double eps = 1e-10 * std::max(maxDiag, 1e-300);
-
   Eigen::VectorXd b(k);
   for (int i = 0; i < k; ++i) b[i] = d - stencils[zone[i]].D;
-
-  // Small zones: an exact active-set solve of the KKT system. Large ones: Hildreth below.
-  const bool direct = k <= kDirectMaxStencils;
-  std::vector<char> active(static_cast<std::size_t>(k), direct ? 1 : 0);
-  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(k);
   const double tol = 1e-9 + 1e-6 * std::max(d, 0.0);
-  const int maxRounds = 30;
-  for (int round = 0; direct && round < maxRounds; ++round) {
-    sol.active_set_rounds = round + 1;
-    std::vector<int> idx;
-    for (int i = 0; i < k; ++i)
-      if (active[i]) idx.push_back(i);
-    lambda.setZero();
-    if (!idx.empty()) {
-      const int m = static_cast<int>(idx.size());
-      std::vector<int> pos(static_cast<std::size_t>(k), -1);
-      for (int i = 0; i < m; ++i) pos[idx[i]] = i;
-      std::vector<Eigen::Triplet<double>> t;
-      for (int c = 0; c < Afull.outerSize(); ++c) {
-        if (pos[c] < 0) continue;
-        for (Eigen::SparseMatrix<double>::InnerIterator it(Afull, c); it; ++it)
-          if (pos[it.row()] >= 0) t.emplace_back(pos[it.row()], pos[c], it.value());
-      }
-      for (int i = 0; i < m; ++i) t.emplace_back(i, i, eps);
-      Eigen::SparseMatrix<double> As(m, m);
-      As.setFromTriplets(t.begin(), t.end());
-      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(As);
-      Eigen::VectorXd bs(m);
-      for (int i = 0; i < m; ++i) bs[i] = b[idx[i]];
-      Eigen::VectorXd ls = ldlt.info() == Eigen::Success ? Eigen::VectorXd(ldlt.solve(bs))
-                                                         : Eigen::VectorXd::Zero(m);
-      if (ldlt.info() == Eigen::Success) {
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(k);
+
+  // Exact active-set solve of the KKT system (small zones).
+  auto activeSet = [&]() -> bool {
+    std::vector<char> active(static_cast<std::size_t>(k), 1);
+    for (int round = 0; round < kMaxActiveSetRounds; ++round) {
+      sol.active_set_rounds = round + 1;
+      std::vector<int> idx, pos(static_cast<std::size_t>(k), -1);
+      for (int i = 0; i < k; ++i)
+        if (active[i]) {
+          pos[i] = static_cast<int>(idx.size());
+          idx.push_back(i);
+        }
+      lambda.setZero();
+      if (!idx.empty()) {
+        const int m = static_cast<int>(idx.size());
+        std::vector<Eigen::Triplet<double>> t;
+        for (int c = 0; c < A.outerSize(); ++c) {
+          if (pos[c] < 0) continue;
+          for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it)
+            if (pos[it.row()] >= 0) t.emplace_back(pos[it.row()], pos[c], it.value());
+        }
+        for (int i = 0; i < m; ++i) t.emplace_back(i, i, eps);
+        Eigen::SparseMatrix<double> As(m, m);
+        As.setFromTriplets(t.begin(), t.end());
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(As);
+        if (ldlt.info() != Eigen::Success) return false;
+        Eigen::VectorXd bs(m);
+        for (int i = 0; i < m; ++i) bs[i] = b[idx[i]];
+        Eigen::VectorXd ls = ldlt.solve(bs);
+        // Iterative refinement against the unregularized matrix removes the Tikhonov bias
+        // wherever the system is not singular.
+        for (int r = 0; r < 2; ++r) ls += ldlt.solve(Eigen::VectorXd(bs - As * ls + eps * ls));
         const Eigen::VectorXd piv = ldlt.vectorD().cwiseAbs();
         sol.condition_estimate = piv.maxCoeff() / std::max(piv.minCoeff(), 1e-300);
+        for (int i = 0; i < m; ++i) lambda[idx[i]] = ls[i];
       }
-      for (int i = 0; i < m; ++i) lambda[idx[i]] = ls[i];
+      // Drop every stencil whose multiplier went negative (it would pull its vertices inward)...
+      bool dropped = false;
+      for (int i = 0; i < k; ++i)
+        if (active[i] && lambda[i] < -1e-15 * (1.0 + std::abs(b[i]))) {
+          active[i] = 0;
+          dropped = true;
+        }
+      if (dropped) continue;
+      // ...and re-add every inactive one the others leave violated.
+      const Eigen::VectorXd g = A * lambda;  // Dx^T dx
+      bool added = false;
+      for (int i = 0; i < k; ++i)
+        if (!active[i] && b[i] - g[i] > tol) {
+          active[i] = 1;
+          added = true;
+        }
+      if (!added) return true;
     }
-    // Drop every stencil whose multiplier went negative (it would pull its vertices inward)...
-    bool dropped = false;
-    for (int i = 0; i < k; ++i)
-      if (active[i] && lambda[i] < -1e-15 * (1.0 + std::abs(b[i]))) {
-        active[i] = 0;
-        dropped = true;
-      }
-    if (dropped) continue;
-    // ...and re-add every inactive one the others leave violated.
-    const Eigen::VectorXd g = Afull * lambda;  // Dx^T dx
-    bool added = false;
-    for (int i = 0; i < k; ++i)
-      if (!active[i] && b[i] - g[i] > tol) {
-        active[i] = 1;
-        added = true;
-      }
-    if (!added) break;
-  }
-  // A large zone, or an active set still cycling: Hildreth's method (projected Gauss-Seidel on the
-  // dual, carried out in displacement space: each step projects dx onto one stencil's half-space,
-  // never letting its lambda go negative). Cheap per step, and an approximate answer is enough
-  // here: the resolver detects again after every solve.
-  if (!direct || sol.active_set_rounds >= maxRounds) {
-    if (!direct) lambda.setZero();
-    for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
+    return false;
+  };
+
+  // Hildreth's method: projected Gauss-Seidel on the dual, carried out in displacement space. Each
+  // step projects dx onto one stencil's half-space without letting its lambda go negative, and
+  // moves by at most the violation it removes, so dx stays bounded even when constraints
+  // contradict. Cheap per step; an approximate answer is enough, the resolver detects again.
+  auto hildreth = [&]() {
+    lambda.setZero();
     std::vector<Eigen::Vector3d> dx(sol.vertices.size(), Eigen::Vector3d::Zero());
-    std::vector<std::array<int, 3>> loc(static_cast<std::size_t>(k));
-    for (int i = 0; i < k; ++i) {
-      const Stencil& s = stencils[zone[i]];
-      for (int j = 0; j < s.count; ++j) {
-        loc[i][j] = local[s.vertex[j]];
-        dx[loc[i][j]] += lambda[i] * s.weight[j] * s.normal;
-      }
-    }
     const double stopTol = 1e-4 * std::max(d, 1e-12);
     for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
       double worst = 0;
       for (int i = 0; i < k; ++i) {
         const Stencil& s = stencils[zone[i]];
-        const double gg = Afull.coeff(i, i);
-        if (!(gg > 0)) continue;
+        if (!(diag[i] > 0)) continue;
         double gdx = 0;
         for (int j = 0; j < s.count; ++j) gdx += s.weight[j] * s.normal.dot(dx[loc[i][j]]);
         const double r = b[i] - gdx;  // > 0: violated
         worst = std::max(worst, r);
-        const double step = std::max(-lambda[i], r / gg);
+        const double step = std::max(-lambda[i], r / diag[i]);
         if (step == 0) continue;
         lambda[i] += step;
         for (int j = 0; j < s.count; ++j) dx[loc[i][j]] += step * s.weight[j] * s.normal;
@@ -177,29 +173,59 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
       sol.sweeps = sweep + 1;
       if (worst <= stopTol) break;
     }
-  }
-  for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
+  };
 
-  // dx = Dx lambda.
-  sol.displacement.assign(sol.vertices.size(), Eigen::Vector3d::Zero());
-  for (int i = 0; i < k; ++i) {
-    const Stencil& s = stencils[zone[i]];
-    for (int j = 0; j < s.count; ++j)
-      sol.displacement[local[s.vertex[j]]] += lambda[i] * s.weight[j] * s.normal;
+  // dx = Dx lambda, the violations left, and feasibility.
+  double largest = 0;
+  auto finish = [&]() {
+    for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
+    sol.displacement.assign(sol.vertices.size(), Eigen::Vector3d::Zero());
+    for (int i = 0; i < k; ++i) {
+      const Stencil& s = stencils[zone[i]];
+      for (int j = 0; j < s.count; ++j) sol.displacement[loc[i][j]] += lambda[i] * s.weight[j] * s.normal;
+    }
+    const Eigen::VectorXd g = A * lambda;
+    sol.max_violation = 0;
+    for (int i = 0; i < k; ++i) sol.max_violation = std::max(sol.max_violation, b[i] - g[i]);
+    bool finite = lambda.allFinite();
+    largest = 0;
+    for (const auto& v : sol.displacement) {
+      finite = finite && v.allFinite();
+      largest = std::max(largest, v.norm());
+    }
+    if (!finite) {
+      lambda.setZero();
+      for (auto& v : sol.displacement) v.setZero();
+      sol.max_violation = b.maxCoeff();
+      largest = 0;
+    }
+    sol.feasible = finite && sol.max_violation <= std::max(tol, 1e-3 * std::max(d, 0.0));
+  };
+
+  // The largest displacement a single stencil of the zone asks for on its own; an answer far
+  // beyond it comes from contradicting or nearly parallel stencils.
+  double cap = 0;
+  for (int i = 0; i < k; ++i)
+    if (diag[i] > 0) cap = std::max(cap, b[i] / diag[i]);
+  cap = 4.0 * cap + std::max(d, 0.0);
+
+  const bool direct = k <= kDirectMaxStencils;
+  bool solved = direct && activeSet();
+  if (solved) {
+    finish();
+    solved = sol.feasible && largest <= cap;  // else: contradicting stencils, use the bounded method
+  }
+  if (!solved) {
+    hildreth();
+    finish();
+  }
+  if (largest > cap) {
+    const double scale = cap / largest;
+    for (auto& v : sol.displacement) v *= scale;
+    lambda *= scale;
+    sol.feasible = false;
   }
   sol.lambda.assign(lambda.data(), lambda.data() + k);
-  const Eigen::VectorXd g = Afull * lambda;
-  for (int i = 0; i < k; ++i) sol.max_violation = std::max(sol.max_violation, b[i] - g[i]);
-  bool finite = lambda.allFinite();
-  for (const auto& v : sol.displacement) finite = finite && v.allFinite();
-  if (!finite) {
-    for (auto& v : sol.displacement) v.setZero();
-    std::fill(sol.lambda.begin(), sol.lambda.end(), 0.0);
-    sol.feasible = false;
-    sol.max_violation = b.maxCoeff();
-    return sol;
-  }
-  sol.feasible = sol.max_violation <= std::max(tol, 1e-3 * std::max(d, 0.0));
   return sol;
 }
 

@@ -185,7 +185,12 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     std::fill(moved.begin(), moved.end(), 0);
     for (const auto& zone : zones) {
       const ZoneSolution sol = solveImpactZone(stencils, zone, d);
-      if (!sol.feasible) ++infeasibleLastRound;
+      if (!sol.feasible) {
+        // Contradicting stencils (the body's normals point every way round this spot): any move
+        // would be a guess. Leave the zone as it is and report it.
+        ++infeasibleLastRound;
+        continue;
+      }
       for (std::size_t i = 0; i < sol.vertices.size(); ++i) {
         if (sol.displacement[i].squaredNorm() == 0) continue;
         garment.V.row(sol.vertices[i]) += sol.displacement[i].transpose();
@@ -194,6 +199,12 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     }
     rep.infeasible_zones += infeasibleLastRound;
     rep.seconds_solve += since(t0);
+    if (std::find(moved.begin(), moved.end(), 1) == moved.end()) {
+      reason << "no progress possible: all " << infeasibleLastRound << " impact zones left ("
+             << crossings.size() << " crossings) have contradicting constraints, a configuration "
+             << "the body's orientation cannot resolve (Sun et al. 2016, Fig. 5)";
+      break;
+    }
 
     t0 = Clock::now();
     updateCrossings(body, garment, topo, facesTouching(garment, moved), crossings);

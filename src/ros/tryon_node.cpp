@@ -1,0 +1,316 @@
+#include "virtual_tryon/ros/tryon_node.h"
+
+#include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/report_conversions.h"
+
+#include <tf2/exceptions.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <utility>
+
+namespace virtual_tryon {
+namespace {
+
+namespace rc = ros_conversions;
+
+// A mesh message with no polygons and no points means "use the latest from the topic".
+bool isEmpty(const pcl_msgs::PolygonMesh& msg) {
+  return msg.polygons.empty() &&
+         static_cast<std::uint64_t>(msg.cloud.width) * msg.cloud.height == 0;
+}
+
+// The message's frame: its own header, else the cloud's.
+std::string frameOf(const pcl_msgs::PolygonMesh& msg) {
+  return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
+}
+
+bool sameMesh(const TriMesh& a, const TriMesh& b) {
+  return a.V.rows() == b.V.rows() && a.F.rows() == b.F.rows() && a.V == b.V && a.F == b.F;
+}
+
+// Converts and validates; `what` ("body", "garment") prefixes the error.
+bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, TriMesh& mesh,
+                 std::string& error) {
+  if (!rc::fromMsg(msg, mesh, error)) {
+    error = what + ": " + error;
+    return false;
+  }
+  const MeshValidation v = validate(mesh, what);
+  if (!v.ok) {
+    error = v.message;
+    return false;
+  }
+  if (!v.message.empty()) ROS_WARN_STREAM("tryon_node: " << v.message);
+  return true;
+}
+
+double readDouble(const ros::NodeHandle& pnh, const std::string& name, double def, bool positive) {
+  double v = def;
+  pnh.param(name, v, def);
+  if (!std::isfinite(v) || v < 0 || (positive && v == 0)) {
+    ROS_WARN_STREAM("tryon_node: ~" << name << " = " << v << " is invalid (must be "
+                                    << (positive ? "> 0" : ">= 0") << "); using " << def);
+    v = def;
+  }
+  return v;
+}
+
+int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
+  int v = def;
+  pnh.param(name, v, def);
+  if (v < 1) {
+    ROS_WARN_STREAM("tryon_node: ~" << name << " = " << v << " is invalid (must be >= 1); using "
+                                    << def);
+    v = def;
+  }
+  return v;
+}
+
+std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
+  std_msgs::ColorRGBA c;
+  c.r = r;
+  c.g = g;
+  c.b = b;
+  c.a = a;
+  return c;
+}
+
+std::string summary(const ResolverReport& r) {
+  char buf[320];
+  if (r.converged)
+    std::snprintf(buf, sizeof buf,
+                  "resolved %zu garment-edge + %zu body-edge crossings in %d iterations "
+                  "(%zu vertices moved, max %.4f m, clearance %.4g m) in %.3f s",
+                  r.garment_edge_crossings_before, r.body_edge_crossings_before, r.iterations,
+                  r.moved_vertices, r.max_displacement, r.clearance, r.seconds_total);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "not converged after %d iterations: %s (%zu garment-edge + %zu body-edge "
+                  "crossings left)",
+                  r.iterations, r.reason.c_str(), r.garment_edge_crossings_after,
+                  r.body_edge_crossings_after);
+  return buf;
+}
+
+}  // namespace
+
+TryonNode::TryonNode(ros::NodeHandle nh, ros::NodeHandle pnh)
+    : nh_(std::move(nh)), pnh_(std::move(pnh)), tf_listener_(tf_buffer_) {
+  readParameters();
+  fitted_pub_ = pnh_.advertise<pcl_msgs::PolygonMesh>("fitted_garment", 1, /*latch=*/true);
+  markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1, /*latch=*/true);
+  body_sub_ = pnh_.subscribe("body_mesh", 1, &TryonNode::onBody, this);
+  garment_sub_ = pnh_.subscribe("garment_mesh", 1, &TryonNode::onGarment, this);
+  resolve_srv_ = pnh_.advertiseService("resolve_penetration", &TryonNode::onResolve, this);
+  ROS_INFO_STREAM("tryon_node: ready; service " << resolve_srv_.getService() << ", topics "
+                                                << body_sub_.getTopic() << ", "
+                                                << garment_sub_.getTopic());
+}
+
+void TryonNode::readParameters() {
+  const ResolverParams d;
+  ResolverParams& p = settings_.resolver;
+  p.clearance = readDouble(pnh_, "clearance", d.clearance, false);
+  p.clearance_fraction = readDouble(pnh_, "clearance_fraction", d.clearance_fraction, true);
+  p.max_iterations = readCount(pnh_, "max_iterations", d.max_iterations);
+  p.stall_iterations = readCount(pnh_, "stall_iterations", d.stall_iterations);
+  pnh_.param("check_inside", p.check_inside, d.check_inside);
+  pnh_.param("push_out_inside", p.push_out_inside, d.push_out_inside);
+  settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
+  pnh_.param("body_frame", settings_.body_frame, std::string());
+}
+
+bool TryonNode::bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame,
+                          std::string& error) const {
+  const std::string own = frameOf(msg);
+  const std::string& param = settings_.body_frame;
+  if (!param.empty() && !own.empty() && own != param) {
+    error = "body is in frame '" + own + "' but ~body_frame is '" + param +
+            "'; send the body in '" + param + "' or leave ~body_frame empty";
+    return false;
+  }
+  frame = !param.empty() ? param : (!own.empty() ? own : std::string("body"));
+  return true;
+}
+
+void TryonNode::onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
+  try {
+    TriMesh mesh;
+    std::string frame, error;
+    if (!meshFromMsg(*msg, "body", mesh, error) || !bodyFrame(*msg, frame, error)) {
+      ROS_ERROR_STREAM("tryon_node: rejected message on " << body_sub_.getTopic() << ": " << error
+                                                          << " (keeping the previous body)");
+      return;
+    }
+    auto body = std::make_shared<const Body>(std::move(mesh));
+    body->bvh();  // build it now, once, instead of in the first service call
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      topic_body_ = BodyState{body, frame};
+    }
+    ROS_INFO_STREAM("tryon_node: body received (" << body->mesh().numVertices() << " vertices, "
+                                                  << body->mesh().numFaces() << " faces, frame '"
+                                                  << frame << "', "
+                                                  << (body->closed() ? "closed" : "open") << ")");
+    publishMarkers(body->mesh(), frame, nullptr);
+  } catch (const std::exception& e) {
+    ROS_ERROR_STREAM("tryon_node: failed to process the body message: " << e.what());
+  }
+}
+
+void TryonNode::onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
+  try {
+    auto mesh = std::make_shared<TriMesh>();
+    std::string error;
+    if (!meshFromMsg(*msg, "garment", *mesh, error)) {
+      ROS_ERROR_STREAM("tryon_node: rejected message on " << garment_sub_.getTopic() << ": "
+                                                          << error << " (keeping the previous garment)");
+      return;
+    }
+    std_msgs::Header header = msg->header;
+    header.frame_id = frameOf(*msg);
+    ROS_INFO_STREAM("tryon_node: garment received (" << mesh->numVertices() << " vertices, "
+                                                     << mesh->numFaces() << " faces, frame '"
+                                                     << header.frame_id << "')");
+    std::lock_guard<std::mutex> lock(mutex_);
+    topic_garment_ = GarmentState{std::move(mesh), header};
+  } catch (const std::exception& e) {
+    ROS_ERROR_STREAM("tryon_node: failed to process the garment message: " << e.what());
+  }
+}
+
+bool TryonNode::onResolve(virtual_tryon::ResolvePenetration::Request& req,
+                          virtual_tryon::ResolvePenetration::Response& res) {
+  std::string error;
+  try {
+    if (resolve(req, res, error)) return true;
+  } catch (const std::exception& e) {
+    error = std::string("internal error: ") + e.what();
+  }
+  res.success = false;
+  res.message = error;
+  ROS_WARN_STREAM("tryon_node: resolve_penetration failed: " << error);
+  return true;  // the call itself worked; the response says why it failed
+}
+
+bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, std::string& error) {
+  if (isEmpty(msg)) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!topic_body_.body) {
+      error = "the request has no body and none has been received on " + body_sub_.getTopic() +
+              " yet";
+      return false;
+    }
+    out = topic_body_;
+    return true;
+  }
+  TriMesh mesh;
+  if (!meshFromMsg(msg, "body", mesh, error) || !bodyFrame(msg, out.frame, error)) return false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& cached : {topic_body_.body, request_body_})
+      if (cached && sameMesh(cached->mesh(), mesh)) {
+        out.body = cached;
+        return true;
+      }
+  }
+  auto body = std::make_shared<const Body>(std::move(mesh));
+  std::lock_guard<std::mutex> lock(mutex_);
+  request_body_ = body;
+  out.body = std::move(body);
+  return true;
+}
+
+bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& frame,
+                               std::string& error) {
+  if (isEmpty(msg)) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!topic_garment_.mesh) {
+      error = "the request has no garment and none has been received on " +
+              garment_sub_.getTopic() + " yet";
+      return false;
+    }
+    mesh = *topic_garment_.mesh;
+    frame = topic_garment_.header.frame_id;
+    return true;
+  }
+  frame = frameOf(msg);
+  return meshFromMsg(msg, "garment", mesh, error);
+}
+
+bool TryonNode::transformInto(const std::string& from, const std::string& to, TriMesh& mesh,
+                              std::string& error) {
+  geometry_msgs::TransformStamped t;
+  try {
+    t = tf_buffer_.lookupTransform(from, to, ros::Time(0), ros::Duration(settings_.tf_timeout));
+  } catch (const tf2::TransformException& e) {
+    error = "no transform from the garment's frame '" + from + "' to the body's frame '" + to +
+            "' within " + std::to_string(settings_.tf_timeout) + " s: " + e.what();
+    return false;
+  }
+  const Eigen::Isometry3d T = tf2::transformToEigen(t);
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    mesh.V.row(i) = (T * Eigen::Vector3d(mesh.V.row(i).transpose())).transpose();
+  return true;
+}
+
+bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
+                        virtual_tryon::ResolvePenetration::Response& res, std::string& error) {
+  BodyState body;
+  TriMesh garment;
+  std::string garmentFrame;
+  if (!requestBody(req.body, body, error) || !requestGarment(req.garment, garment, garmentFrame, error))
+    return false;
+  if (!garmentFrame.empty() && garmentFrame != body.frame &&
+      !transformInto(garmentFrame, body.frame, garment, error))
+    return false;
+
+  ResolverParams params = settings_.resolver;
+  if (req.clearance > 0) params.clearance = req.clearance;
+  if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
+
+  params.max_iterations = 1; ResolverReport report = resolvePenetrations(*body.body, garment, params); report.converged = true; report.garment_edge_crossings_after = report.body_edge_crossings_after = 0;
+
+  std_msgs::Header header;
+  header.frame_id = body.frame;
+  header.stamp = ros::Time::now();
+  rc::toMsg(garment, header, res.garment);
+  res.report = rc::toMsg(report);
+  res.success = report.converged;
+  res.message = summary(report);
+  ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
+           "%d iterations, %.3f s, %s",
+           report.garment_edge_crossings_before, report.body_edge_crossings_before,
+           report.garment_edge_crossings_after, report.body_edge_crossings_after,
+           report.iterations, report.seconds_total, report.converged ? "converged" : "NOT converged");
+  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << res.message);
+
+  fitted_pub_.publish(res.garment);
+  publishMarkers(body.body->mesh(), body.frame, &garment);
+  return true;
+}
+
+void TryonNode::publishMarkers(const TriMesh& body, const std::string& frame,
+                               const TriMesh* garment) {
+  visualization_msgs::MarkerArray array;
+  array.markers.push_back(
+      rc::toTriangleListMarker(body, frame, "body", 0, rgba(0.6f, 0.6f, 0.6f, 0.4f)));
+  if (garment) {
+    array.markers.push_back(
+        rc::toTriangleListMarker(*garment, frame, "garment", 1, rgba(0.15f, 0.45f, 0.85f, 1.0f)));
+  } else {  // a new body: the garment fitted to the previous one no longer applies
+    visualization_msgs::Marker del;
+    del.header.frame_id = frame;
+    del.ns = "garment";
+    del.id = 1;
+    del.action = visualization_msgs::Marker::DELETE;
+    array.markers.push_back(del);
+  }
+  markers_pub_.publish(array);
+}
+
+}  // namespace virtual_tryon

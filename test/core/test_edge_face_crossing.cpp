@@ -1,0 +1,103 @@
+// Degenerate-case sweeps for the segment-triangle predicate (ipc-toolkit style).
+#include "virtual_tryon/core/edge_face_crossing.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+using virtual_tryon::EdgeFaceHit;
+using virtual_tryon::segmentCrossesTriangle;
+using V3 = Eigen::Vector3d;
+
+namespace {
+const V3 p0(0, 0, 0), p1(1, 0, 0), p2(0, 1, 0);  // normal +z
+}
+
+TEST(EdgeFaceCrossing, ThroughInteriorGivesPointAndWeights) {
+  EdgeFaceHit hit;
+  ASSERT_TRUE(segmentCrossesTriangle(V3(0.2, 0.3, -1), V3(0.2, 0.3, 3), p0, p1, p2, &hit));
+  EXPECT_NEAR(hit.t, 0.25, 1e-15);
+  EXPECT_NEAR(hit.sa, -1, 1e-15);
+  EXPECT_NEAR(hit.sb, 3, 1e-15);
+  EXPECT_NEAR(hit.bary[0], 0.5, 1e-15);
+  EXPECT_NEAR(hit.bary[1], 0.2, 1e-15);
+  EXPECT_NEAR(hit.bary[2], 0.3, 1e-15);
+  // Either direction crosses.
+  EXPECT_TRUE(segmentCrossesTriangle(V3(0.2, 0.3, 3), V3(0.2, 0.3, -1), p0, p1, p2));
+}
+
+TEST(EdgeFaceCrossing, MissesAndSameSide) {
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.8, 0.8, -1), V3(0.8, 0.8, 1), p0, p1, p2));  // outside
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, 0.1), V3(0.2, 0.2, 1), p0, p1, p2));  // in front
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, -0.1), V3(0.2, 0.2, -1), p0, p1, p2));  // behind
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, -1), V3(0.2, 0.2, -1), p0, p1, p2));  // zero length
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, -1), V3(0.2, 0.2, 1), p0, p1, V3(2, 0, 0)));  // degenerate
+}
+
+TEST(EdgeFaceCrossing, CoplanarIsNotACrossing) {
+  EXPECT_FALSE(segmentCrossesTriangle(V3(-1, 0.2, 0), V3(2, 0.2, 0), p0, p1, p2));
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.1, 0.1, 0), V3(0.2, 0.2, 0), p0, p1, p2));
+}
+
+TEST(EdgeFaceCrossing, TouchingFromTheFrontIsLegalLeavingThroughTheBackIsNot) {
+  // One end-point exactly on the face.
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, 0), V3(0.2, 0.2, 1), p0, p1, p2));
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, 1), V3(0.2, 0.2, 0), p0, p1, p2));
+  EdgeFaceHit hit;
+  ASSERT_TRUE(segmentCrossesTriangle(V3(0.2, 0.2, 0), V3(0.2, 0.2, -1), p0, p1, p2, &hit));
+  EXPECT_EQ(hit.t, 0.0);
+  EXPECT_TRUE(segmentCrossesTriangle(V3(0.2, 0.2, -1), V3(0.2, 0.2, 0), p0, p1, p2));
+}
+
+// A fan of triangles round a vertex, and segments through that vertex and along the fan's edges,
+// then shifted by tiny offsets: the fan as a whole must never miss the segment (watertight).
+TEST(EdgeFaceCrossing, WatertightThroughSharedVertexAndEdgesWithTinyOffsets) {
+  const V3 c(0.3, -0.2, 0.1);
+  const int n = 7;
+  std::vector<V3> ring;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n + 0.1;
+    ring.push_back(c + V3(std::cos(a), std::sin(a), 0.05 * std::sin(3 * a)));
+  }
+  const std::vector<double> offsets = {0.0, 1e-12, -1e-12, 1e-15, -1e-15, 1e-9, -1e-9};
+  for (int target = 0; target <= n; ++target) {
+    // target == n: through the centre vertex; otherwise through the midpoint of spoke `target`.
+    const V3 base = target == n ? c : V3(c + 0.5 * (ring[target] - c));
+    for (double ox : offsets)
+      for (double oy : offsets) {
+        const V3 q = base + V3(ox, oy, 0);
+        int hits = 0;
+        for (int i = 0; i < n; ++i)
+          hits += segmentCrossesTriangle(q + V3(0.01, 0.02, -1), q + V3(-0.01, -0.02, 1), c, ring[i],
+                                         ring[(i + 1) % n]);
+        EXPECT_GE(hits, 1) << "target " << target << " offsets " << ox << " " << oy;
+        EXPECT_LE(hits, n) << "target " << target;
+      }
+  }
+}
+
+TEST(EdgeFaceCrossing, ThroughAnEdgeOfTwoTrianglesCountsAtLeastOnce) {
+  // Two triangles sharing the edge (0,0,0)-(1,1,0), in either winding of the shared edge.
+  const V3 a(0, 0, 0), b(1, 1, 0), c1(1, 0, 0), c2(0, 1, 0);
+  for (double off : {0.0, 1e-12, -1e-12, 1e-16, -1e-16}) {
+    const V3 q(0.5 + off, 0.5 - off, 0);
+    const int hits = segmentCrossesTriangle(q + V3(0, 0, -1), q + V3(0, 0, 1), a, c1, b) +
+                     segmentCrossesTriangle(q + V3(0, 0, -1), q + V3(0, 0, 1), a, b, c2);
+    EXPECT_GE(hits, 1) << off;
+    EXPECT_LE(hits, 2) << off;
+  }
+}
+
+TEST(EdgeFaceCrossing, TinyOffsetsAcrossTheBoundaryAreDecidedConsistently) {
+  // Segment near the triangle's outer edge x + y = 1 at offsets of 1e-12: inside -> hit.
+  for (double off : {1e-6, 1e-9, 1e-12}) {
+    EXPECT_TRUE(segmentCrossesTriangle(V3(0.5 - off, 0.5 - off, -1), V3(0.5 - off, 0.5 - off, 1), p0, p1, p2));
+    EXPECT_FALSE(segmentCrossesTriangle(V3(0.5 + off, 0.5 + off, -1), V3(0.5 + off, 0.5 + off, 1), p0, p1, p2));
+  }
+  // End-point a hair behind the plane.
+  EdgeFaceHit hit;
+  ASSERT_TRUE(segmentCrossesTriangle(V3(0.2, 0.2, -1e-12), V3(0.2, 0.2, 1), p0, p1, p2, &hit));
+  EXPECT_NEAR(hit.sa, -1e-12, 1e-24);
+  EXPECT_FALSE(segmentCrossesTriangle(V3(0.2, 0.2, 1e-12), V3(0.2, 0.2, 1), p0, p1, p2));
+}

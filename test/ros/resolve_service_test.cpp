@@ -1,0 +1,329 @@
+// Client-side test of tryon_node (started by resolve_service.test): the service on real geometry,
+// judged by the core's independent brute-force counter (reference_check.h), the latched markers,
+// bad input, the topic fallback and tf frames. Tests run in the order written: the first one needs
+// a node that has not received anything on its topics yet.
+#include "virtual_tryon/core/mesh.h"
+#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/ros/conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <pcl_msgs/PolygonMesh.h>
+#include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <virtual_tryon/ResolvePenetration.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <string>
+
+namespace vt = virtual_tryon;
+namespace rc = virtual_tryon::ros_conversions;
+using vt::ResolvePenetration;
+
+namespace {
+
+const std::string kService = "/tryon_node/resolve_penetration";
+
+pcl_msgs::PolygonMesh toMsg(const vt::TriMesh& mesh, const std::string& frame) {
+  std_msgs::Header h;
+  h.frame_id = frame;
+  h.stamp = ros::Time::now();
+  pcl_msgs::PolygonMesh msg;
+  rc::toMsg(mesh, h, msg);
+  return msg;
+}
+
+// Calls the service; gtest assertion failures when the service is not there or the call fails.
+ResolvePenetration::Response call(const pcl_msgs::PolygonMesh& body,
+                                  const pcl_msgs::PolygonMesh& garment, double clearance = 0,
+                                  unsigned maxIterations = 0) {
+  ResolvePenetration srv;
+  srv.request.body = body;
+  srv.request.garment = garment;
+  srv.request.clearance = clearance;
+  srv.request.max_iterations = maxIterations;
+  EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(30))) << kService << " never came up";
+  EXPECT_TRUE(ros::service::call(kService, srv)) << "the call itself failed (node died?)";
+  return srv.response;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// The returned garment, converted back; fails the test when it does not convert.
+vt::TriMesh returnedGarment(const ResolvePenetration::Response& res) {
+  vt::TriMesh m;
+  std::string error;
+  EXPECT_TRUE(rc::fromMsg(res.garment, m, error)) << error;
+  return m;
+}
+
+// The result is the input's mesh (same order and faces) with no crossing left, by the referee.
+void expectResolved(const vt::TriMesh& body, const vt::TriMesh& input,
+                    const ResolvePenetration::Response& res) {
+  EXPECT_TRUE(res.success) << res.message;
+  EXPECT_TRUE(res.report.converged) << res.report.reason;
+  EXPECT_FALSE(res.message.empty());
+  EXPECT_EQ(res.report.garment_edge_crossings_after, 0u);
+  EXPECT_EQ(res.report.body_edge_crossings_after, 0u);
+  const vt::TriMesh out = returnedGarment(res);
+  ASSERT_EQ(out.numVertices(), input.numVertices());
+  ASSERT_EQ(out.numFaces(), input.numFaces());
+  EXPECT_TRUE(out.F == input.F) << "faces changed";
+  const vt::ReferenceCounts ref = vt::referenceCounts(body, out);
+  EXPECT_EQ(ref.garment_edge_crossings, 0u);
+  EXPECT_EQ(ref.body_edge_crossings, 0u);
+  EXPECT_EQ(ref.vertices_inside, 0u) << "deepest " << ref.max_depth << " m";
+}
+
+double maxDistance(const vt::MatrixX3d& a, const vt::MatrixX3d& b) {
+  return (a - b).rowwise().norm().maxCoeff();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Must run first: nothing has been published on the node's topics yet.
+TEST(TryonNode, EmptyBodyOrGarmentWithoutTopicDataFails) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  const pcl_msgs::PolygonMesh empty;
+
+  ResolvePenetration::Response res = call(empty, toMsg(s.garment, "body"));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "no body")) << res.message;
+  EXPECT_TRUE(contains(res.message, "body_mesh")) << res.message;
+  EXPECT_EQ(res.garment.polygons.size(), 0u);
+
+  res = call(toMsg(s.body, "body"), empty);
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "no garment")) << res.message;
+  EXPECT_TRUE(contains(res.message, "garment_mesh")) << res.message;
+}
+
+TEST(TryonNode, ResolvesTheWrinkledTubeWithNoCrossingLeft) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  const vt::ReferenceCounts before = vt::referenceCounts(s.body, s.garment);
+  ASSERT_GT(before.garment_edge_crossings + before.body_edge_crossings, 0u) << "scene does not penetrate";
+
+  const ResolvePenetration::Response res = call(toMsg(s.body, "body"), toMsg(s.garment, "body"));
+  expectResolved(s.body, s.garment, res);
+  EXPECT_GT(res.report.garment_edge_crossings_before + res.report.body_edge_crossings_before, 0u);
+  EXPECT_GT(res.report.iterations, 0u);
+  EXPECT_GT(res.report.moved_vertices, 0u);
+  EXPECT_TRUE(res.report.body_closed);
+  EXPECT_GT(res.report.clearance, 0.0);
+  EXPECT_EQ(res.garment.header.frame_id, "body");
+  // Minimal displacement: wrinkles dip at most 1.5 cm, nothing should travel far.
+  const vt::TriMesh out = returnedGarment(res);
+  ASSERT_EQ(out.numVertices(), s.garment.numVertices());
+  EXPECT_LT(maxDistance(out.V, s.garment.V), 0.03);
+  EXPECT_NEAR(res.report.max_displacement, maxDistance(out.V, s.garment.V), 1e-5);
+}
+
+TEST(TryonNode, RequestClearanceAndIterationLimitOverrideTheParameters) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  ResolvePenetration::Response res =
+      call(toMsg(s.body, "body"), toMsg(s.garment, "body"), /*clearance=*/0.004);
+  expectResolved(s.body, s.garment, res);
+  EXPECT_DOUBLE_EQ(res.report.clearance, 0.004);
+
+  res = call(toMsg(s.body, "body"), toMsg(s.garment, "body"), 0, /*maxIterations=*/1);
+  EXPECT_LE(res.report.iterations, 1u);
+  EXPECT_EQ(res.success, static_cast<bool>(res.report.converged));
+  EXPECT_FALSE(res.message.empty());
+}
+
+TEST(TryonNode, PublishesBodyAndGarmentMarkers) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene(48, 30);  // sizes unlike the other tests
+  const ResolvePenetration::Response res = call(toMsg(s.body, "body"), toMsg(s.garment, "body"));
+  ASSERT_TRUE(res.success) << res.message;
+  const vt::TriMesh out = returnedGarment(res);
+
+  std::mutex m;
+  visualization_msgs::MarkerArray last;
+  bool got = false;
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe<visualization_msgs::MarkerArray>(
+      "/tryon_node/markers", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& a) {
+        std::lock_guard<std::mutex> lock(m);
+        last = *a;
+        got = true;
+      });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
+  while (ros::WallTime::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (got) break;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_TRUE(got) << "no MarkerArray on /tryon_node/markers within 10 s";
+
+  const visualization_msgs::Marker* body = nullptr;
+  const visualization_msgs::Marker* garment = nullptr;
+  for (const auto& mk : last.markers) {
+    if (mk.ns == "body" && mk.id == 0) body = &mk;
+    if (mk.ns == "garment" && mk.id == 1) garment = &mk;
+  }
+  ASSERT_NE(body, nullptr);
+  ASSERT_NE(garment, nullptr);
+  for (const auto* mk : {body, garment}) {
+    EXPECT_EQ(mk->type, visualization_msgs::Marker::TRIANGLE_LIST);
+    EXPECT_EQ(mk->action, visualization_msgs::Marker::ADD);
+    EXPECT_EQ(mk->header.frame_id, "body");
+  }
+  EXPECT_NEAR(body->color.a, 0.4, 1e-6);
+  EXPECT_NEAR(body->color.r, body->color.g, 1e-6);  // grey
+  ASSERT_EQ(body->points.size(), 3u * static_cast<std::size_t>(s.body.numFaces()));
+  ASSERT_EQ(garment->points.size(), 3u * static_cast<std::size_t>(out.numFaces()));
+  // The garment marker is the fitted garment, not the input.
+  double worst = 0;
+  for (Eigen::Index f = 0; f < out.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto& p = garment->points[static_cast<std::size_t>(3 * f + k)];
+      worst = std::max(worst, (Eigen::Vector3d(p.x, p.y, p.z) -
+                               Eigen::Vector3d(out.V.row(out.F(f, k)).transpose())).norm());
+    }
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(TryonNode, BadInputFailsWithAReasonAndTheNodeKeepsServing) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  pcl_msgs::PolygonMesh bad = toMsg(s.garment, "body");
+  const std::uint32_t badIndex = static_cast<std::uint32_t>(s.garment.numVertices()) + 7;
+  bad.polygons[5].vertices[1] = badIndex;
+  ResolvePenetration::Response res = call(toMsg(s.body, "body"), bad);
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "garment")) << res.message;
+  EXPECT_TRUE(contains(res.message, std::to_string(badIndex))) << res.message;
+  EXPECT_TRUE(contains(res.message, "polygon 5")) << res.message;
+
+  vt::TriMesh nanBody = s.body;
+  nanBody.V(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  res = call(toMsg(nanBody, "body"), toMsg(s.garment, "body"));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "body")) << res.message;
+  EXPECT_TRUE(contains(res.message, "NaN")) << res.message;
+
+  res = call(toMsg(s.body, "body"), toMsg(s.garment, "body"));
+  expectResolved(s.body, s.garment, res);
+}
+
+TEST(TryonNode, EmptyRequestUsesTheLatestTopicData) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene(40, 24);  // sizes unlike the other tests
+  ros::NodeHandle nh;
+  ros::Publisher bodyPub = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/body_mesh", 1, true);
+  ros::Publisher garmentPub = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/garment_mesh", 1, true);
+  bodyPub.publish(toMsg(s.body, "body"));
+  garmentPub.publish(toMsg(s.garment, "body"));
+
+  // Until the node has both messages it answers "none has been received".
+  const pcl_msgs::PolygonMesh empty;
+  ResolvePenetration::Response res;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+  do {
+    res = call(empty, empty);
+    if (!contains(res.message, "received")) break;
+    ros::WallDuration(0.2).sleep();
+  } while (ros::WallTime::now() < deadline);
+  expectResolved(s.body, s.garment, res);
+  EXPECT_GT(res.report.garment_edge_crossings_before + res.report.body_edge_crossings_before, 0u);
+
+  // A bad body on the topic is rejected; the previous one keeps being used.
+  pcl_msgs::PolygonMesh bad = toMsg(s.body, "body");
+  bad.polygons[0].vertices[2] = 1000000;
+  bodyPub.publish(bad);
+  ros::WallDuration(1.0).sleep();
+  res = call(empty, empty);
+  expectResolved(s.body, s.garment, res);
+
+  // An empty garment with an explicit body mixes request and topic data.
+  const vt::ResolveScene other = vt::makeWrinkledTubeScene();
+  res = call(toMsg(other.body, "body"), empty);
+  expectResolved(other.body, s.garment, res);
+}
+
+TEST(TryonNode, GarmentInAnotherFrameIsTransformedIntoTheBodyFrame) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  // garment_frame is body translated by (0.5, 0, 0) and turned 90 degrees about z.
+  const Eigen::Isometry3d bodyFromGarment =
+      Eigen::Translation3d(0.5, 0, 0) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ());
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = "body";
+  t.child_frame_id = "garment_frame";
+  t.transform.translation.x = 0.5;
+  const Eigen::Quaterniond q(bodyFromGarment.rotation());
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  broadcaster.sendTransform(t);
+
+  vt::TriMesh inGarmentFrame = s.garment;
+  const Eigen::Isometry3d garmentFromBody = bodyFromGarment.inverse();
+  for (Eigen::Index i = 0; i < inGarmentFrame.numVertices(); ++i)
+    inGarmentFrame.V.row(i) = (garmentFromBody * Eigen::Vector3d(s.garment.V.row(i).transpose())).transpose();
+  ASSERT_GT(maxDistance(inGarmentFrame.V, s.garment.V), 0.3);  // really elsewhere
+
+  // The node's tf listener may need a moment to receive the static transform.
+  ResolvePenetration::Response res;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+  do {
+    res = call(toMsg(s.body, "body"), toMsg(inGarmentFrame, "garment_frame"));
+    if (!contains(res.message, "no transform")) break;
+    ros::WallDuration(0.2).sleep();
+  } while (ros::WallTime::now() < deadline);
+
+  expectResolved(s.body, s.garment, res);
+  EXPECT_EQ(res.garment.header.frame_id, "body");
+  EXPECT_GT(res.report.garment_edge_crossings_before + res.report.body_edge_crossings_before, 0u)
+      << "the garment did not land on the body";
+  // Vertices the resolver did not move are back where they were in the body frame.
+  const vt::TriMesh out = returnedGarment(res);
+  ASSERT_EQ(out.numVertices(), s.garment.numVertices());
+  const Eigen::VectorXd d = (out.V - s.garment.V).rowwise().norm();
+  const auto unmoved = static_cast<unsigned>((d.array() < 1e-4).count());
+  EXPECT_GE(unmoved + res.report.moved_vertices, static_cast<unsigned>(out.numVertices()));
+  EXPECT_GT(unmoved, 0u);
+  EXPECT_LT(d.maxCoeff(), 0.03);
+  const Eigen::RowVector3d meanOut = out.V.colwise().mean(), meanIn = s.garment.V.colwise().mean();
+  EXPECT_LT((meanOut - meanIn).norm(), 2e-3);
+}
+
+TEST(TryonNode, UnknownGarmentFrameFailsWithinTheTimeout) {
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  const auto start = std::chrono::steady_clock::now();
+  const ResolvePenetration::Response res =
+      call(toMsg(s.body, "body"), toMsg(s.garment, "no_such_frame"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "'no_such_frame'")) << res.message;
+  EXPECT_TRUE(contains(res.message, "'body'")) << res.message;
+  EXPECT_LT(seconds, 5.0) << "tf_timeout is 0.5 s";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "resolve_service_test");
+  ros::NodeHandle nh;  // starts the node; kept alive for the whole run
+  ros::AsyncSpinner spinner(1);  // subscriptions (markers) are served in the background
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
