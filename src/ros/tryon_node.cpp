@@ -246,7 +246,7 @@ bool TryonNode::transformInto(const std::string& from, const std::string& to, Tr
                               std::string& error) {
   geometry_msgs::TransformStamped t;
   try {
-    t = tf_buffer_.lookupTransform(from, to, ros::Time(0), ros::Duration(settings_.tf_timeout));
+    t = tf_buffer_.lookupTransform(to, from, ros::Time(0), ros::Duration(settings_.tf_timeout));
   } catch (const tf2::TransformException& e) {
     error = "no transform from the garment's frame '" + from + "' to the body's frame '" + to +
             "' within " + std::to_string(settings_.tf_timeout) + " s: " + e.what();
@@ -273,7 +273,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
 
-  params.max_iterations = 1; ResolverReport report = resolvePenetrations(*body.body, garment, params); report.converged = true; report.garment_edge_crossings_after = report.body_edge_crossings_after = 0;
+  const ResolverReport report = resolvePenetrations(*body.body, garment, params);
 
   std_msgs::Header header;
   header.frame_id = body.frame;
