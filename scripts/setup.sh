@@ -6,7 +6,7 @@ PACKAGES=(
   build-essential cmake pkg-config git
   ros-base-dev ros-core catkin python3-catkin-pkg python3-rostest librostest-dev
   python3-rosbag librosbag-dev rosbash
-  libeigen3-dev libpcl-dev libfcl-dev libpcl-conversions-dev
+  libeigen3-dev libpcl-dev libfcl-dev libpcl-conversions-dev libyaml-cpp-dev
   libtf2-dev libtf2-ros-dev libtf2-eigen-dev
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libshape-msgs-dev
   libpcl-msgs-dev libvisualization-msgs-dev
