@@ -43,4 +43,20 @@ const BodyBVH& Body::bvh() const {
   return *bvh_;
 }
 
+std::shared_ptr<const DepthMaps> Body::depthMaps(const CollisionParams& params) const {
+  std::lock_guard<std::mutex> lock(maps_mutex_);
+  if (!maps_ || maps_tol_ != params.tol || maps_size_ != params.map_size) {
+    maps_ = std::make_shared<const DepthMaps>(mesh_, params);
+    maps_tol_ = params.tol;
+    maps_size_ = params.map_size;
+    ++maps_renders_;
+  }
+  return maps_;
+}
+
+int Body::depthMapRenders() const {
+  std::lock_guard<std::mutex> lock(maps_mutex_);
+  return maps_renders_;
+}
+
 }  // namespace virtual_tryon

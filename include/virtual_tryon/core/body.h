@@ -3,6 +3,7 @@
 // many garments pays for its BVH once.
 #pragma once
 
+#include "virtual_tryon/core/depth_maps.h"
 #include "virtual_tryon/core/mesh.h"
 
 #include <memory>
@@ -35,6 +36,12 @@ class Body {
   bool bvhBuilt() const { return bvh_built_; }
   double bvhBuildSeconds() const { return bvh_seconds_; }
 
+  // Front/back depth and normal maps for image-space collisions, rendered on the first call for
+  // these (tol, map_size) and cached: the same parameters again cost nothing; other parameters
+  // render new maps (the last set is kept). Thread-safe.
+  std::shared_ptr<const DepthMaps> depthMaps(const CollisionParams& params) const;
+  int depthMapRenders() const;  // how many times maps were rendered for this body
+
  private:
   TriMesh mesh_;
   MatrixX3d face_normals_;
@@ -48,6 +55,12 @@ class Body {
   mutable std::unique_ptr<BodyBVH> bvh_;
   mutable bool bvh_built_ = false;
   mutable double bvh_seconds_ = 0;
+
+  mutable std::mutex maps_mutex_;
+  mutable std::shared_ptr<const DepthMaps> maps_;
+  mutable double maps_tol_ = -1;
+  mutable int maps_size_ = -1;
+  mutable int maps_renders_ = 0;
 };
 
 }  // namespace virtual_tryon

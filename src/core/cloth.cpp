@@ -1,0 +1,316 @@
+#include "virtual_tryon/core/cloth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <set>
+
+namespace virtual_tryon {
+
+double stableTimeStep(double mass, double kMax) {
+  if (!(mass > 0) || !(kMax > 0)) return 0.0;
+  return 0.4 * M_PI * std::sqrt(mass / kMax);
+}
+
+namespace {
+double stiffnessOf(const ClothParams& p, SpringType t) {
+  switch (t) {
+    case SpringType::Structural: return p.k_structural;
+    case SpringType::Shear: return p.k_shear;
+    case SpringType::Flexion: return p.k_flexion;
+  }
+  return p.k_structural;
+}
+}  // namespace
+
+ClothState::ClothState(const ClothMesh& mesh, const ClothParams& params)
+    : params_(params), x_(mesh.X), springs_(mesh.springs), seams_(mesh.seam_pairs), quads_(mesh.quads),
+      F_(mesh.F) {
+  mass_ = params.density * mesh.spacing * mesh.spacing;
+  const Eigen::Index n = x_.rows();
+  v_ = MatrixX3d::Zero(n, 3);
+  f_ = MatrixX3d::Zero(n, 3);
+  m_.assign(static_cast<std::size_t>(n), mass_);
+  k_.resize(springs_.size());
+  for (std::size_t i = 0; i < springs_.size(); ++i) k_[i] = stiffnessOf(params, springs_[i].type);
+  int nSeams = 0;
+  for (const auto& s : seams_) nSeams = std::max(nSeams, s.seam + 1);
+  seam_welded_.assign(static_cast<std::size_t>(nSeams), 0);
+}
+
+double ClothState::maxStiffness(bool withSeams) const {
+  double k = std::max({params_.k_structural, params_.k_shear, params_.k_flexion});
+  if (withSeams && !seams_.empty()) k = std::max(k, params_.k_seam);
+  return k;
+}
+
+double ClothState::paperTimeStep() const {
+  return virtual_tryon::stableTimeStep(mass_, maxStiffness(true));
+}
+
+double ClothState::stableTimeStep() const {
+  // K per node: the sum of the stiffnesses of the springs (and open seams) that meet there.
+  std::vector<double> ksum(m_.size(), 0.0);
+  for (std::size_t s = 0; s < springs_.size(); ++s) {
+    ksum[springs_[s].a] += k_[s];
+    ksum[springs_[s].b] += k_[s];
+  }
+  for (const SeamPair& sp : seams_) {
+    ksum[sp.a] += params_.k_seam;
+    ksum[sp.b] += params_.k_seam;
+  }
+  double dt = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m_.size(); ++i)
+    if (ksum[i] > 0) dt = std::min(dt, virtual_tryon::stableTimeStep(m_[i], ksum[i]));
+  return std::isfinite(dt) ? dt : 0.0;
+}
+
+void ClothState::computeForces() {
+  const Eigen::Index n = x_.rows();
+  const Eigen::RowVector3d g = params_.gravity.transpose();
+  for (Eigen::Index i = 0; i < n; ++i) f_.row(i) = m_[i] * (g - params_.damping_rate * v_.row(i));
+  len_.resize(springs_.size());
+  for (std::size_t s = 0; s < springs_.size(); ++s) {
+    const Spring& sp = springs_[s];
+    const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
+    const double len = d.norm();
+    len_[s] = len;
+    if (!(len > 0)) continue;
+    const Eigen::RowVector3d f = (k_[s] * (len - sp.rest) / len) * d;
+    f_.row(sp.a) += f;
+    f_.row(sp.b) -= f;
+  }
+}
+
+void ClothState::fixVelocities() {
+  fixed_springs_ = 0;
+  if (params_.velocity_fix_passes <= 0) return;
+  const double limit = 1.0 + params_.stretch_threshold;
+  // Spring lengths of the current positions (computeForces leaves them in len_).
+  if (len_.size() != springs_.size()) {
+    len_.resize(springs_.size());
+    for (std::size_t s = 0; s < springs_.size(); ++s)
+      len_[s] = (x_.row(springs_[s].b) - x_.row(springs_[s].a)).norm();
+  }
+  // Only over-stretched springs matter; collect them once.
+  over_.clear();
+  for (std::size_t s = 0; s < springs_.size(); ++s)
+    if (len_[s] > limit * springs_[s].rest && len_[s] > 0) over_.push_back(static_cast<int>(s));
+  for (int pass = 0; pass < params_.velocity_fix_passes; ++pass) {
+    std::size_t acted = 0;
+    for (int s : over_) {
+      const Spring& sp = springs_[s];
+      const Eigen::RowVector3d u = (x_.row(sp.b) - x_.row(sp.a)) / len_[s];
+      const double va = v_.row(sp.a).dot(u), vb = v_.row(sp.b).dot(u);
+      bool changed = false;
+      if (va < 0) {  // a moves away from b
+        v_.row(sp.a) -= va * u;
+        changed = true;
+      }
+      if (vb > 0) {  // b moves away from a
+        v_.row(sp.b) -= vb * u;
+        changed = true;
+      }
+      acted += changed;
+    }
+    if (pass == 0) fixed_springs_ = acted;
+    if (acted == 0) return;
+  }
+  // The passes above are Gauss-Seidel: fixing one spring can leave a neighbour with a tiny
+  // stretching rate again. A node still stretching one of its over-long springs stops (a zero
+  // velocity stretches nothing and touches no other node), so afterwards no over-stretched spring
+  // gets longer, exactly.
+  for (int s : over_) {
+    const Spring& sp = springs_[s];
+    const Eigen::RowVector3d u = (x_.row(sp.b) - x_.row(sp.a)) / len_[s];
+    if (v_.row(sp.a).dot(u) < 0) v_.row(sp.a).setZero();
+    if (v_.row(sp.b).dot(u) > 0) v_.row(sp.b).setZero();
+  }
+}
+
+bool ClothState::step(double dt, bool sewing) {
+  const MatrixX3d x0 = x_, v0 = v_;
+  computeForces();
+  if (sewing)
+    for (const SeamPair& s : seams_) {
+      const Eigen::RowVector3d f = params_.k_seam * (x_.row(s.b) - x_.row(s.a));
+      f_.row(s.a) += f;
+      f_.row(s.b) -= f;
+    }
+  const Eigen::Index n = x_.rows();
+  for (Eigen::Index i = 0; i < n; ++i) v_.row(i) += (dt / m_[i]) * f_.row(i);
+  fixVelocities();
+  if (hook_) hook_(x_, v_);
+  x_ += dt * v_;
+  len_.clear();  // lengths are stale now
+  const double limit2 = params_.runaway_speed * params_.runaway_speed;
+  bool ok = x_.allFinite() && v_.allFinite();
+  for (Eigen::Index i = 0; ok && i < n; ++i) ok = v_.row(i).squaredNorm() <= limit2;
+  if (!ok) {
+    x_ = x0;
+    v_ = v0;
+  }
+  return ok;
+}
+
+double ClothState::maxSeamGap() const {
+  double g = 0;
+  for (const SeamPair& s : seams_) g = std::max(g, (x_.row(s.a) - x_.row(s.b)).norm());
+  return g;
+}
+
+double ClothState::meanSeamGap() const {
+  if (seams_.empty()) return 0;
+  double g = 0;
+  for (const SeamPair& s : seams_) g += (x_.row(s.a) - x_.row(s.b)).norm();
+  return g / static_cast<double>(seams_.size());
+}
+
+int ClothState::openSeams() const {
+  std::set<int> open;
+  for (const SeamPair& s : seams_) open.insert(s.seam);
+  return static_cast<int>(open.size());
+}
+
+int ClothState::weldClosedSeams(double tolerance) {
+  std::vector<double> worst(seam_welded_.size(), 0.0);
+  for (const SeamPair& s : seams_)
+    worst[s.seam] = std::max(worst[s.seam], (x_.row(s.a) - x_.row(s.b)).norm());
+  std::vector<char> weld(seam_welded_.size(), 0);
+  int count = 0;
+  for (const SeamPair& s : seams_)
+    if (!weld[s.seam] && worst[s.seam] < tolerance) {
+      weld[s.seam] = 1;
+      ++count;
+    }
+  if (count == 0) return 0;
+  const int n = static_cast<int>(x_.rows());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  std::vector<SeamPair> stillOpen;
+  for (const SeamPair& s : seams_) {
+    if (!weld[s.seam]) {
+      stillOpen.push_back(s);
+      continue;
+    }
+    const int a = find(s.a), b = find(s.b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  for (std::size_t i = 0; i < weld.size(); ++i)
+    if (weld[i]) seam_welded_[i] = 1;
+  seams_ = stillOpen;
+  std::vector<int> rep(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) rep[i] = find(i);
+  rebuildAfterWeld(rep);
+  return count;
+}
+
+void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
+  const int n = static_cast<int>(rep.size());
+  std::vector<int> id(static_cast<std::size_t>(n), -1);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (rep[i] == i) id[i] = m++;
+  MatrixX3d x = MatrixX3d::Zero(m, 3), v = MatrixX3d::Zero(m, 3);
+  std::vector<double> mass(static_cast<std::size_t>(m), 0.0);
+  std::vector<int> count(static_cast<std::size_t>(m), 0);
+  for (int i = 0; i < n; ++i) {
+    const int j = id[rep[i]];
+    x.row(j) += x_.row(i);
+    v.row(j) += m_[i] * v_.row(i);  // momentum is kept
+    mass[j] += m_[i];
+    ++count[j];
+  }
+  for (int j = 0; j < m; ++j) {
+    x.row(j) /= count[j];
+    v.row(j) /= mass[j];
+  }
+  auto remap = [&](int i) { return id[rep[i]]; };
+  std::vector<Spring> springs;
+  std::vector<double> k;
+  std::set<std::pair<int, int>> seen;
+  for (std::size_t s = 0; s < springs_.size(); ++s) {
+    Spring sp = springs_[s];
+    sp.a = remap(sp.a);
+    sp.b = remap(sp.b);
+    if (sp.a == sp.b || !seen.insert({std::min(sp.a, sp.b), std::max(sp.a, sp.b)}).second) continue;
+    springs.push_back(sp);
+    k.push_back(k_[s]);
+  }
+  for (SeamPair& s : seams_) {
+    s.a = remap(s.a);
+    s.b = remap(s.b);
+  }
+  seams_.erase(std::remove_if(seams_.begin(), seams_.end(), [](const SeamPair& s) { return s.a == s.b; }),
+               seams_.end());
+  for (auto& q : quads_)
+    for (int& c : q) c = remap(c);
+  MatrixX3i F(F_.rows(), 3);
+  Eigen::Index nf = 0;
+  for (Eigen::Index f = 0; f < F_.rows(); ++f) {
+    const int a = remap(F_(f, 0)), b = remap(F_(f, 1)), c = remap(F_(f, 2));
+    if (a == b || b == c || a == c) continue;
+    F.row(nf++) << a, b, c;
+  }
+  F.conservativeResize(nf, 3);
+  x_ = x;
+  v_ = v;
+  f_ = MatrixX3d::Zero(m, 3);
+  m_ = mass;
+  springs_ = springs;
+  k_ = k;
+  len_.clear();
+  F_ = F;
+}
+
+const MatrixX3d& ClothState::evaluateForces() {
+  computeForces();
+  return f_;
+}
+
+double ClothState::potentialEnergy() const {
+  double e = 0;
+  for (std::size_t s = 0; s < springs_.size(); ++s) {
+    const double l = (x_.row(springs_[s].b) - x_.row(springs_[s].a)).norm();
+    e += 0.5 * k_[s] * (l - springs_[s].rest) * (l - springs_[s].rest);
+  }
+  for (Eigen::Index i = 0; i < x_.rows(); ++i) e -= m_[i] * params_.gravity.dot(x_.row(i).transpose());
+  return e;
+}
+
+double ClothState::kineticEnergy() const {
+  double e = 0;
+  for (Eigen::Index i = 0; i < v_.rows(); ++i) e += 0.5 * m_[i] * v_.row(i).squaredNorm();
+  return e;
+}
+
+double ClothState::maxSpeed() const {
+  return v_.rows() ? std::sqrt(v_.rowwise().squaredNorm().maxCoeff()) : 0.0;
+}
+
+void ClothState::strain(double& maxStrain, double& meanStrain) const {
+  maxStrain = meanStrain = 0;
+  std::size_t n = 0;
+  for (const Spring& sp : springs_) {
+    if (sp.type != SpringType::Structural || !(sp.rest > 0)) continue;
+    const double e = std::abs((x_.row(sp.b) - x_.row(sp.a)).norm() / sp.rest - 1.0);
+    maxStrain = std::max(maxStrain, e);
+    meanStrain += e;
+    ++n;
+  }
+  if (n) meanStrain /= static_cast<double>(n);
+}
+
+TriMesh ClothState::mesh() const {
+  TriMesh m;
+  m.V = x_;
+  m.F = F_;
+  return m;
+}
+
+}  // namespace virtual_tryon
