@@ -117,11 +117,12 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
 
   // Time step (eq. 4).
   rep.dt_bound = cloth.stableTimeStep();
+  rep.dt_bound_paper = cloth.paperTimeStep();
   rep.dt = params.dt > 0 ? params.dt : params.dt_safety * rep.dt_bound;
   if (params.dt > rep.dt_bound) {
     const std::string what = "requested dt " + num(params.dt) + " s is above the stability bound " +
-                             num(rep.dt_bound) + " s (0.4 pi sqrt(m / K_max), m = " + num(cloth.nodeMass()) +
-                             " kg, K_max = " + num(cloth.maxStiffness(true)) + " N/m)";
+                             num(rep.dt_bound) + " s (0.4 pi sqrt(m / K) with m a node's mass and K the "
+                             "sum of the stiffnesses meeting at it; node mass " + num(cloth.nodeMass()) + " kg)";
     if (!params.clamp_dt) {
       rep.message = what;
       return rep;
@@ -132,9 +133,11 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
 
   // Collisions: maps or BVH, cached with the body.
   std::unique_ptr<BodyCollider> collider;
-  if (params.mode == CollisionMode::ImageSpace)
-    collider = std::make_unique<ImageSpaceCollider>(body.depthMaps(params.collision));
-  else {
+  if (params.mode == CollisionMode::ImageSpace) {
+    auto maps = body.depthMaps(params.collision);
+    rep.map_size = std::max(maps->width(), maps->height());
+    collider = std::make_unique<ImageSpaceCollider>(maps);
+  } else {
     body.bvh();
     collider = std::make_unique<ObjectSpaceCollider>(body, params.collision.tol);
   }

@@ -55,7 +55,9 @@ struct DrapeReport {
   std::vector<std::string> warnings;
   std::size_t vertices = 0, triangles = 0;
   int iterations = 0, sew_iterations = 0;
-  double dt = 0, dt_bound = 0;  // seconds
+  double dt = 0, dt_bound = 0;  // seconds; dt_bound: eq. 4 per node (ClothState::stableTimeStep)
+  double dt_bound_paper = 0;    // eq. 4 with the stiffest single spring (reported only)
+  int map_size = 0;             // image space: pixels along the longer side
   double seconds_setup = 0;     // meshing, and maps or BVH if not cached yet
   double seconds_simulation = 0;
   double seconds_per_iteration = 0;
