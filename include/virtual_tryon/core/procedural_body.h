@@ -1,7 +1,11 @@
-// A procedural human-like body, made by the project (no external data): a smooth union of
-// capsules and ellipsoids (head, neck, torso, pelvis, arms in an A-pose, legs), meshed from its
-// implicit function. Closed, consistently wound, outward, metres, +y up, faces +z, feet at y = 0,
-// about 1.7 m tall.
+// A procedural human-like body, made by the project (no external data): a smooth union
+// (polynomial smooth-min, blend radius 2.5 cm at 1.70 m) of a lofted elliptical torso (crotch to
+// the base of the neck: hips, waist, chest, sloping shoulders), capsules with tapering radii (neck,
+// trapezius, upper arms, forearms, thighs, shins) and ellipsoids (head, deltoids, mitten hands,
+// calves, feet), meshed from its implicit function by marching tetrahedra. Closed, consistently
+// wound, outward, metres, +y up, faces +z, feet at y = 0, about 1.7 m tall. The arms hang 45 degrees
+// below the horizontal (A-pose) with the hands far from the hips; the thighs leave a gap of a few
+// centimetres below the crotch.
 #pragma once
 
 #include "virtual_tryon/core/mesh.h"
@@ -11,16 +15,22 @@
 namespace virtual_tryon {
 
 struct ProceduralBodyParams {
-  double height = 1.70;      // metres, feet to top of head
-  double girth_scale = 1.0;  // scales torso and limb radii
-  double resolution = 0.015; // grid cell size of the mesher, metres
+  double height = 1.70;      // metres, feet to top of head; every length scales with height / 1.70
+  double girth_scale = 1.0;  // scales torso and limb radii (and the hip/shoulder spacing), not the
+                             // head, the feet or any length
+  double resolution = 0.015; // grid cell size of the mesher, metres (0.015: ~32k vertices, ~65k
+                             // triangles, ~0.1 s; keep it <= ~0.025 or the wrists and hands thin out)
 };
 
 // Signed implicit function of the body (negative inside, roughly the distance in metres near the
-// surface).
+// surface; not an exact distance). The primitives for `params` are cached per thread, so calling it
+// point by point is cheap.
 double proceduralBodySdf(const Eigen::Vector3d& p, const ProceduralBodyParams& params = ProceduralBodyParams());
 
-// The body mesh.
+// The body mesh: meshImplicit(proceduralBodySdf) on the body's bounds plus two cells, at
+// params.resolution. Closed 2-manifold (genus 0), outward, no degenerate faces, one connected
+// component (should a fingertip come out as a separate sliver at a coarse resolution, only the
+// largest piece is kept).
 TriMesh makeProceduralBody(const ProceduralBodyParams& params = ProceduralBodyParams());
 
 // Landmarks of the procedural body (for patterns and tests), metres, in the body frame (+y up,
@@ -50,12 +60,22 @@ struct ProceduralBodyLandmarks {
 };
 ProceduralBodyLandmarks proceduralBodyLandmarks(const ProceduralBodyParams& params = ProceduralBodyParams());
 
-// Meshes {p : f(p) < 0} inside the box [lo, hi] on a grid of `cell` (marching tetrahedra, shared
-// vertices, outward winding). Closed when the surface stays inside the box.
+// Meshes {p : f(p) < 0} inside the box [lo, hi] on a grid of `cell` (nodes at lo + cell * (i, j, k),
+// enough of them to cover hi): f is evaluated once per node (NaN counts as outside), every cube is
+// split into the 6 tetrahedra around its main diagonal (the same split in every cube, so the pieces
+// match across faces), and the surface vertices sit on the grid edges at the linear zero crossing
+// (clamped to [0.001, 0.999] along the edge, so no triangle degenerates even where f = 0 at a node),
+// shared by all tetrahedra around the edge. The result is the level set of the piecewise-linear
+// interpolant: closed and manifold when the surface stays inside the box, outward (counter-clockwise
+// seen from outside, signedVolume > 0), no unused vertices. Returns an empty mesh when nothing is
+// inside (or the box is empty).
 TriMesh meshImplicit(const std::function<double(const Eigen::Vector3d&)>& f, const Eigen::Vector3d& lo,
                      const Eigen::Vector3d& hi, double cell);
 
-// Loop-free midpoint subdivision: every triangle into 4 (for "4x faces" benchmarks).
+// Loop-free midpoint subdivision: every triangle into 4 (for "4x faces" benchmarks). The original
+// vertices keep their indices and positions, followed by one new vertex per unique edge (in
+// uniqueEdges order); face f becomes faces 4f..4f+3 with the same winding. Closed meshes stay closed
+// and the shape (and volume) is unchanged.
 TriMesh subdivideMidpoint(const TriMesh& mesh);
 
 }  // namespace virtual_tryon
