@@ -51,9 +51,12 @@ class DepthMaps {
   // 1/256 pixel and the edge functions are evaluated exactly in 64-bit integers with a
   // top-left-style fill rule: a centre strictly inside is covered; a centre exactly on an edge is
   // covered by exactly one of the two triangles sharing that edge (the edge a->b of the
-  // counter-clockwise-in-x-y triangle is owned when b.y < a.y, or b.y == a.y and b.x < a.x).
-  // So a watertight surface leaves no cracks and does not double-cover. Triangles with zero
-  // projected area are skipped (their neighbours cover the same centres).
+  // counter-clockwise-in-x-y triangle is owned when b.y < a.y, or b.y == a.y and b.x < a.x;
+  // the reversed edge of the neighbour then is not). So two triangles lying on either side of a
+  // shared edge in the projection cover a centre on it exactly once, likewise the fan round a
+  // shared vertex: a watertight surface leaves no cracks and is not double-counted. Triangles
+  // with zero projected area are skipped (their neighbours cover the same centres).
+  // Pass 2 interpolates the vertex normals of each pixel's winning face at the pixel centre.
   //
   // Silhouette ring: after adding tol, every empty pixel with at least one covered 8-neighbour
   // (Chebyshev distance 1, so there are no gaps at the diagonal steps of the silhouette) is
