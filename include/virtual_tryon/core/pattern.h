@@ -143,7 +143,9 @@ struct ClothMesh {
 // flexion i/j +-2 with the middle node kept and both halves linked; rest lengths from UV.
 // Nodes are numbered panel by panel (panel 0 first), row by row (v, then u) within a panel.
 // Boundary nodes: nodes with a 4-neighbour missing (or not linked) or lying on the outline.
-// Seams: N = the larger number of boundary nodes within 0.75 * spacing of either stretch; each
+// Seams: N = the larger number of boundary nodes near either stretch (within 0.75 * spacing of
+// its polyline, or within one spacing with the closest point not at one of its ends: next to a
+// slanted stretch a boundary node can be up to a spacing away); each
 // stretch polyline is sampled at N points evenly by arc length (from `from` to `to`), sample k of
 // a pairs with sample k of b, each mapped to the nearest boundary node of its panel; exact
 // duplicate pairs and pairs of one node are dropped. A seam left with < 2 pairs is an error.
