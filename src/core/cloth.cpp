@@ -132,12 +132,21 @@ void ClothState::fixVelocities() {
 bool ClothState::step(double dt, bool sewing) {
   const MatrixX3d x0 = x_, v0 = v_;
   computeForces();
-  if (sewing)
+  if (sewing && !params_.gravity_while_sewing)
+    for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= m_[i] * params_.gravity.transpose();
+  if (sewing) {
+    const double extra = params_.sewing_damping_rate - params_.damping_rate;
+    if (extra > 0)
+      for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= (extra * m_[i]) * v_.row(i);
     for (const SeamPair& s : seams_) {
-      const Eigen::RowVector3d f = params_.k_seam * (x_.row(s.b) - x_.row(s.a));
+      const Eigen::RowVector3d d = x_.row(s.b) - x_.row(s.a);
+      const double len = d.norm();
+      const double scale = len > params_.seam_max_stretch ? params_.seam_max_stretch / len : 1.0;
+      const Eigen::RowVector3d f = (params_.k_seam * scale) * d;
       f_.row(s.a) += f;
       f_.row(s.b) -= f;
     }
+  }
   const Eigen::Index n = x_.rows();
   for (Eigen::Index i = 0; i < n; ++i) v_.row(i) += (dt / m_[i]) * f_.row(i);
   fixVelocities();
@@ -287,6 +296,12 @@ double ClothState::kineticEnergy() const {
   double e = 0;
   for (Eigen::Index i = 0; i < v_.rows(); ++i) e += 0.5 * m_[i] * v_.row(i).squaredNorm();
   return e;
+}
+
+double ClothState::rmsSpeed() const {
+  double m = 0;
+  for (double mi : m_) m += mi;
+  return m > 0 ? std::sqrt(2.0 * kineticEnergy() / m) : 0.0;
 }
 
 double ClothState::maxSpeed() const {

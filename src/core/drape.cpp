@@ -76,6 +76,10 @@ std::string validateDrapeParams(const DrapeParams& p) {
   if (!(c.k_flexion >= 0) || !std::isfinite(c.k_flexion)) return bad("k_flexion", c.k_flexion, ">= 0 N/m");
   if (!(c.k_seam > 0) || !std::isfinite(c.k_seam)) return bad("k_seam", c.k_seam, "> 0 N/m");
   if (!(c.damping_rate >= 0) || !std::isfinite(c.damping_rate)) return bad("damping_rate", c.damping_rate, ">= 0 1/s");
+  if (!(c.sewing_damping_rate >= 0) || !std::isfinite(c.sewing_damping_rate))
+    return bad("sewing_damping_rate", c.sewing_damping_rate, ">= 0 1/s");
+  if (!(c.seam_max_stretch > 0) || !std::isfinite(c.seam_max_stretch))
+    return bad("seam_max_stretch", c.seam_max_stretch, "> 0 m");
   if (!(c.stretch_threshold >= 0.01 && c.stretch_threshold <= 0.15))
     return bad("stretch_threshold", c.stretch_threshold, "0.01 .. 0.15");
   if (!c.gravity.allFinite()) return "gravity is not finite";
@@ -163,7 +167,7 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
       cloth.weldClosedSeams(weldTol);
     } else {
       ++drapeIterations;
-      if (drapeIterations >= params.min_drape_iterations && cloth.maxSpeed() < params.settle_speed) {
+      if (drapeIterations >= params.min_drape_iterations && cloth.rmsSpeed() < params.settle_speed) {
         settled = true;
         break;
       }

@@ -20,11 +20,15 @@ namespace virtual_tryon {
 
 struct ClothParams {
   double density = 0.15;        // kg/m^2; a node's mass is density * spacing^2
-  double k_structural = 40.0;   // N/m
-  double k_shear = 10.0;        // N/m
-  double k_flexion = 4.0;       // N/m
-  double k_seam = 40.0;         // N/m, seam springs (rest length 0) while sewing
-  double damping_rate = 1.0;    // 1/s; C_vd = damping_rate * m
+  double k_structural = 10.0;   // N/m (soft: the velocity fix, not stiffness, stops stretching)
+  double k_shear = 2.0;         // N/m
+  double k_flexion = 1.0;       // N/m
+  double k_seam = 2.0;          // N/m, seam springs (rest length 0) while sewing
+  double seam_max_stretch = 0.05;  // m: a seam spring's force stops growing past this gap, so
+                                   // panels placed far apart are pulled in, not flung
+  double sewing_damping_rate = 4.0;  // 1/s, damping while any seam is open
+  bool gravity_while_sewing = false;  // off: panels do not slide down before they are closed
+  double damping_rate = 6;    // 1/s; C_vd = damping_rate * m
   Eigen::Vector3d gravity{0, -9.81, 0};
   double stretch_threshold = 0.10;  // super-elasticity threshold, 0.01 .. 0.15
   int velocity_fix_passes = 3;      // Gauss-Seidel passes of the velocity fix per step; 0: off
@@ -73,6 +77,7 @@ class ClothState {
 
   double kineticEnergy() const;
   double maxSpeed() const;
+  double rmsSpeed() const;  // sqrt(2 KE / total mass)
   // max and mean |l / l0 - 1| over structural springs.
   void strain(double& maxStrain, double& meanStrain) const;
   // Springs the velocity fix acted on in the last step.

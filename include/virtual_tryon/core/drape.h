@@ -30,7 +30,7 @@ struct DrapeParams {
   int max_sew_iterations = 4000;
   int max_iterations = 8000;   // sewing and draping together
   int min_drape_iterations = 40;
-  double settle_speed = 0.05;  // m/s: settled when no node moves faster, after welding
+  double settle_speed = 0.02;  // m/s: settled when the rms node speed is below it, after welding
   double time_budget = 0;      // seconds of wall clock; 0: none. When spent: best state, not converged
   bool resolve = true;         // run the penetration resolver on the result
   ResolverParams resolver;

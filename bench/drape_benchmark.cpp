@@ -1,0 +1,99 @@
+// Drape benchmark (Vassilev et al. 2001 Tables 1 and 2 again) on the shared MakeHuman body with
+// the project's hm08 patterns.
+// Usage: drape_benchmark [DATA_DIR] [PATTERN_DIR]
+//   DATA_DIR default ../shared/data (or $VT_DATA); PATTERN_DIR default config/patterns/hm08.
+// Prints Markdown tables; skips (exit 0) when the data is absent.
+#include "virtual_tryon/core/body.h"
+#include "virtual_tryon/core/drape.h"
+#include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/procedural_body.h"
+#include "virtual_tryon/core/reference_check.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace vt = virtual_tryon;
+
+namespace {
+
+struct Case {
+  const char* garment;
+  double spacing;
+  const char* paper;  // the paper's vertex count for this garment
+};
+
+vt::DrapeReport run(const vt::Body& body, const vt::GarmentPattern& p, double spacing, vt::CollisionMode mode,
+                    int maxIterations, bool resolve, vt::TriMesh& out) {
+  vt::DrapeParams params;
+  params.spacing = spacing;
+  params.mode = mode;
+  params.max_iterations = maxIterations;
+  params.resolve = resolve;
+  return vt::drape(body, p, params, out);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string data = argc > 1 ? argv[1] : (std::getenv("VT_DATA") ? std::getenv("VT_DATA") : "../shared/data");
+  const std::string patterns = argc > 2 ? argv[2] : "config/patterns/hm08";
+  vt::TriMesh bodyMesh;
+  std::string err;
+  if (!vt::readMesh(data + "/body_hm08.obj", bodyMesh, err)) {
+    std::printf("drape_benchmark: no shared data at '%s' (%s); skipping\n", data.c_str(), err.c_str());
+    return 0;
+  }
+  vt::Body body(bodyMesh);
+  vt::Body body4(vt::subdivideMidpoint(bodyMesh));
+  body.bvh();
+  body4.bvh();
+
+  const std::vector<Case> cases = {{"skirt", 0.034, "336"},    {"trousers", 0.037, "560"},
+                                   {"sleeveless_shirt", 0.036, "544"}, {"sleeveless_shirt", 0.019, "1800"},
+                                   {"dress", 0.032, "1024"},    {"dress", 0.0165, "3840"},
+                                   {"tshirt", 0.03, "-"}};
+  std::printf("## Drape on body_hm08 (%ld faces), image space unless stated\n\n", static_cast<long>(bodyMesh.F.rows()));
+  std::printf("| garment | spacing m | vertices (paper) | iterations (sewing) | total s | ms/iteration IS | ms/iteration OS | OS/IS | ms/iteration IS, body 4x faces | penetrating before -> after resolve | strain max / mean | seam gap m | converged |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Case& c : cases) {
+    vt::GarmentPattern pattern;
+    if (!vt::readPatternYaml(patterns + "/" + c.garment + ".yaml", pattern, err)) {
+      std::printf("| %s | pattern missing: %s |\n", c.garment, err.c_str());
+      continue;
+    }
+    vt::TriMesh out, tmp;
+    const vt::DrapeReport is = run(body, pattern, c.spacing, vt::CollisionMode::ImageSpace, 8000, true, out);
+    if (!is.success) {
+      std::printf("| %s | %.4f | failed: %s |\n", c.garment, c.spacing, is.message.c_str());
+      continue;
+    }
+    // Object space and the 4x body: per-iteration cost over a bounded run.
+    const int probe = std::min(300, std::max(50, is.iterations));
+    const vt::DrapeReport os = run(body, pattern, c.spacing, vt::CollisionMode::ObjectSpace, probe, false, tmp);
+    const vt::DrapeReport is4 = run(body4, pattern, c.spacing, vt::CollisionMode::ImageSpace, probe, false, tmp);
+    std::printf("| %s | %.4f | %zu (%s) | %d (%d) | %.3f | %.3f | %.3f | %.1f | %.3f | %zu -> %zu | %.3f / %.4f | %.4f | %s |\n",
+                c.garment, c.spacing, is.vertices, c.paper, is.iterations, is.sew_iterations, is.seconds_total,
+                1e3 * is.seconds_per_iteration, 1e3 * os.seconds_per_iteration,
+                os.seconds_per_iteration / is.seconds_per_iteration, 1e3 * is4.seconds_per_iteration,
+                is.penetrating_before_resolve, is.penetrating_after, is.strain_max, is.strain_mean, is.seam_gap_max,
+                is.converged ? "yes" : ("no: " + is.message).c_str());
+  }
+
+  // Time per iteration against cloth size (linear?) and body size (flat?).
+  std::printf("\n## Time per iteration against cloth vertices (dress, image space, 200 iterations)\n\n");
+  std::printf("| spacing m | vertices | ms/iteration | us/iteration/vertex | ms/iteration, body 4x faces |\n|---|---|---|---|---|\n");
+  vt::GarmentPattern dress;
+  if (vt::readPatternYaml(patterns + "/dress.yaml", dress, err)) {
+    for (double s : {0.04, 0.03, 0.022, 0.0165, 0.012}) {
+      vt::TriMesh tmp;
+      const vt::DrapeReport r = run(body, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
+      const vt::DrapeReport r4 = run(body4, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
+      if (!r.success) continue;
+      std::printf("| %.4f | %zu | %.3f | %.3f | %.3f |\n", s, r.vertices, 1e3 * r.seconds_per_iteration,
+                  1e6 * r.seconds_per_iteration / static_cast<double>(r.vertices), 1e3 * r4.seconds_per_iteration);
+    }
+  }
+  return 0;
+}
