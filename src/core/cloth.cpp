@@ -141,7 +141,9 @@ bool ClothState::step(double dt, bool sewing) {
     for (const SeamPair& s : seams_) {
       const Eigen::RowVector3d d = x_.row(s.b) - x_.row(s.a);
       const double len = d.norm();
-      const double scale = len > params_.seam_max_stretch ? params_.seam_max_stretch / len : 1.0;
+      // A constant pull of k_seam * seam_max_stretch: strong enough to finish closing a seam
+      // against the cloth's resistance, never strong enough to fling a panel across the body.
+      const double scale = len > 0 ? params_.seam_max_stretch / len : 0.0;
       const Eigen::RowVector3d f = (params_.k_seam * scale) * d;
       f_.row(s.a) += f;
       f_.row(s.b) -= f;

@@ -23,9 +23,8 @@ struct ClothParams {
   double k_structural = 10.0;   // N/m (soft: the velocity fix, not stiffness, stops stretching)
   double k_shear = 2.0;         // N/m
   double k_flexion = 1.0;       // N/m
-  double k_seam = 2.0;          // N/m, seam springs (rest length 0) while sewing
-  double seam_max_stretch = 0.05;  // m: a seam spring's force stops growing past this gap, so
-                                   // panels placed far apart are pulled in, not flung
+  double k_seam = 2.0;          // N/m: seam points pull each other with the constant force
+  double seam_max_stretch = 0.05;  // k_seam * seam_max_stretch (N) until their seam is welded
   double sewing_damping_rate = 4.0;  // 1/s, damping while any seam is open
   bool gravity_while_sewing = false;  // off: panels do not slide down before they are closed
   double damping_rate = 6;    // 1/s; C_vd = damping_rate * m

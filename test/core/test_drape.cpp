@@ -1,0 +1,161 @@
+// The drape end to end on the project's procedural body, checked by the independent referee.
+#include "virtual_tryon/core/drape.h"
+#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/procedural_body.h"
+#include "virtual_tryon/core/reference_check.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+using namespace virtual_tryon;
+
+namespace {
+
+const Body& proceduralBody() {
+  static const std::unique_ptr<Body> body = std::make_unique<Body>(makeProceduralBody());
+  return *body;
+}
+
+GarmentPattern loadPattern(const std::string& name) {
+  GarmentPattern p;
+  std::string err;
+  EXPECT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
+      << err;
+  return p;
+}
+
+}  // namespace
+
+TEST(Drape, SkirtOnTheProceduralBodyConvergesWithZeroCrossings) {
+  const Body& body = proceduralBody();
+  DrapeParams params;
+  params.spacing = 0.03;
+  TriMesh garment;
+  const DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  ASSERT_TRUE(rep.success) << rep.message;
+  EXPECT_TRUE(rep.converged) << rep.message;
+  EXPECT_EQ(rep.seams_open, 0);
+  EXPECT_EQ(rep.seams_total, 2);
+  EXPECT_GT(rep.sew_iterations, 0);
+  EXPECT_LE(rep.dt, rep.dt_bound);
+  EXPECT_LT(rep.dt_bound, rep.dt_bound_paper);
+  EXPECT_TRUE(rep.resolver_run);
+  EXPECT_TRUE(rep.resolver.converged) << rep.resolver.reason;
+  // One welded mesh, finite, hanging round the hips: its top near the waist, its hem above the knee.
+  ASSERT_GT(garment.V.rows(), 300);
+  EXPECT_TRUE(garment.V.allFinite());
+  std::vector<int> label;
+  EXPECT_EQ(connectedComponents(garment, label), 1);
+  const ProceduralBodyLandmarks lm = proceduralBodyLandmarks();
+  EXPECT_GT(garment.V.col(1).maxCoeff(), lm.hip_y);
+  EXPECT_LT(garment.V.col(1).maxCoeff(), lm.waist_y + 0.05);
+  EXPECT_GT(garment.V.col(1).minCoeff(), lm.knee_y - 0.1);
+  EXPECT_LT(rep.strain_mean, 0.1);
+  const ReferenceCounts c = referenceCounts(body.mesh(), garment);
+  EXPECT_EQ(c.garment_edge_crossings, 0u);
+  EXPECT_EQ(c.body_edge_crossings, 0u);
+  EXPECT_EQ(c.vertices_inside, 0u);
+  EXPECT_EQ(rep.penetrating_after, 0u);
+}
+
+TEST(Drape, MapsAreRenderedOncePerBody) {
+  const Body body(makeCapsule(0.15, 0.6));
+  DrapeParams params;
+  params.spacing = 0.05;
+  params.max_iterations = 20;
+  params.resolve = false;
+  GarmentPattern p = loadPattern("skirt.yaml");
+  TriMesh g;
+  drape(body, p, params, g);
+  drape(body, p, params, g);
+  EXPECT_EQ(body.depthMapRenders(), 1);
+  params.collision.tol = 0.004;  // other maps
+  drape(body, p, params, g);
+  EXPECT_EQ(body.depthMapRenders(), 2);
+}
+
+TEST(Drape, StiffClothWithTheAutomaticStepStaysFinite) {
+  const Body& body = proceduralBody();
+  DrapeParams params;
+  params.spacing = 0.04;
+  params.cloth.k_structural *= 100;
+  params.cloth.k_shear *= 100;
+  params.cloth.k_flexion *= 100;
+  params.max_iterations = 3000;
+  TriMesh garment;
+  const DrapeReport rep = drape(body, loadPattern("dress.yaml"), params, garment);
+  ASSERT_TRUE(rep.success) << rep.message;
+  EXPECT_TRUE(garment.V.allFinite());
+  EXPECT_LE(rep.dt, rep.dt_bound);
+  EXPECT_LT(rep.max_speed, 5.0);
+  EXPECT_LT(rep.strain_max, 0.5);
+}
+
+TEST(Drape, ADtAboveTheBoundIsRefusedOrClamped) {
+  const Body& body = proceduralBody();
+  DrapeParams params;
+  params.spacing = 0.05;
+  params.dt = 1.0;
+  TriMesh garment;
+  DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  EXPECT_FALSE(rep.success);
+  EXPECT_NE(rep.message.find("stability bound"), std::string::npos) << rep.message;
+  EXPECT_EQ(garment.V.rows(), 0);
+  params.clamp_dt = true;
+  params.max_iterations = 50;
+  params.resolve = false;
+  rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  EXPECT_TRUE(rep.success) << rep.message;
+  ASSERT_EQ(rep.warnings.size(), 1u);
+  EXPECT_NE(rep.warnings[0].find("clamped"), std::string::npos);
+  EXPECT_EQ(rep.dt, rep.dt_bound);
+}
+
+TEST(Drape, BadParametersAreRefusedWithTheirName) {
+  const Body& body = proceduralBody();
+  const GarmentPattern p = loadPattern("skirt.yaml");
+  auto refuse = [&](DrapeParams params, const std::string& name) {
+    TriMesh g;
+    const DrapeReport rep = drape(body, p, params, g);
+    EXPECT_FALSE(rep.success) << name;
+    EXPECT_NE(rep.message.find(name), std::string::npos) << rep.message;
+  };
+  DrapeParams d;
+  d.cloth.density = 0;
+  refuse(d, "density");
+  d = DrapeParams();
+  d.cloth.k_structural = -1;
+  refuse(d, "k_structural");
+  d = DrapeParams();
+  d.collision.tol = 0;
+  refuse(d, "tol");
+  d = DrapeParams();
+  d.collision.map_size = 1000000;
+  refuse(d, "map_size");
+  d = DrapeParams();
+  d.cloth.stretch_threshold = 0.5;
+  refuse(d, "stretch_threshold");
+}
+
+TEST(Drape, ObjectSpaceCollisionsDrapeTooAndCancelStops) {
+  const Body& body = proceduralBody();
+  DrapeParams params;
+  params.spacing = 0.05;
+  params.mode = CollisionMode::ObjectSpace;
+  params.max_iterations = 400;
+  TriMesh garment;
+  int calls = 0;
+  const DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment,
+                                [&](const DrapeProgress& pr) {
+                                  ++calls;
+                                  return pr.iteration < 100;
+                                },
+                                25);
+  ASSERT_TRUE(rep.success) << rep.message;
+  EXPECT_TRUE(rep.cancelled);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(rep.iterations, 100);
+  EXPECT_EQ(calls, 4);
+  EXPECT_TRUE(garment.V.allFinite());
+}
