@@ -67,19 +67,38 @@ double ClothState::stableTimeStep() const {
 }
 
 void ClothState::computeForces() {
+  // Raw loops over the row-major n x 3 buffers: this is the hot path of every iteration.
   const Eigen::Index n = x_.rows();
-  const Eigen::RowVector3d g = params_.gravity.transpose();
-  for (Eigen::Index i = 0; i < n; ++i) f_.row(i) = m_[i] * (g - params_.damping_rate * v_.row(i));
+  const double* x = x_.data();
+  const double* v = v_.data();
+  double* f = f_.data();
+  const double gx = params_.gravity.x(), gy = params_.gravity.y(), gz = params_.gravity.z();
+  const double c = params_.damping_rate;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double m = m_[i];
+    f[3 * i + 0] = m * (gx - c * v[3 * i + 0]);
+    f[3 * i + 1] = m * (gy - c * v[3 * i + 1]);
+    f[3 * i + 2] = m * (gz - c * v[3 * i + 2]);
+  }
   len_.resize(springs_.size());
-  for (std::size_t s = 0; s < springs_.size(); ++s) {
+  const std::size_t ns = springs_.size();
+  for (std::size_t s = 0; s < ns; ++s) {
     const Spring& sp = springs_[s];
-    const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
-    const double len = d.norm();
+    const double* xa = x + 3 * sp.a;
+    const double* xb = x + 3 * sp.b;
+    const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     len_[s] = len;
     if (!(len > 0)) continue;
-    const Eigen::RowVector3d f = (k_[s] * (len - sp.rest) / len) * d;
-    f_.row(sp.a) += f;
-    f_.row(sp.b) -= f;
+    const double k = k_[s] * (len - sp.rest) / len;
+    double* fa = f + 3 * sp.a;
+    double* fb = f + 3 * sp.b;
+    fa[0] += k * dx;
+    fa[1] += k * dy;
+    fa[2] += k * dz;
+    fb[0] -= k * dx;
+    fb[1] -= k * dy;
+    fb[2] -= k * dz;
   }
 }
 
@@ -130,7 +149,8 @@ void ClothState::fixVelocities() {
 }
 
 bool ClothState::step(double dt, bool sewing) {
-  const MatrixX3d x0 = x_, v0 = v_;
+  x_prev_ = x_;  // kept to roll a failed step back (no allocation after the first step)
+  v_prev_ = v_;
   computeForces();
   if (sewing && !params_.gravity_while_sewing)
     for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= m_[i] * params_.gravity.transpose();
@@ -150,17 +170,37 @@ bool ClothState::step(double dt, bool sewing) {
     }
   }
   const Eigen::Index n = x_.rows();
-  for (Eigen::Index i = 0; i < n; ++i) v_.row(i) += (dt / m_[i]) * f_.row(i);
+  {
+    double* v = v_.data();
+    const double* f = f_.data();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double s = dt / m_[i];
+      v[3 * i + 0] += s * f[3 * i + 0];
+      v[3 * i + 1] += s * f[3 * i + 1];
+      v[3 * i + 2] += s * f[3 * i + 2];
+    }
+  }
   fixVelocities();
   if (hook_) hook_(x_, v_);
   x_ += dt * v_;
   len_.clear();  // lengths are stale now
   const double limit2 = params_.runaway_speed * params_.runaway_speed;
-  bool ok = x_.allFinite() && v_.allFinite();
-  for (Eigen::Index i = 0; ok && i < n; ++i) ok = v_.row(i).squaredNorm() <= limit2;
+  bool ok = true;
+  {
+    const double* v = v_.data();
+    const double* x = x_.data();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double s2 = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
+      // NaN compares false: a non-finite velocity fails here, a non-finite position below.
+      if (!(s2 <= limit2) || !std::isfinite(x[3 * i] + x[3 * i + 1] + x[3 * i + 2])) {
+        ok = false;
+        break;
+      }
+    }
+  }
   if (!ok) {
-    x_ = x0;
-    v_ = v0;
+    x_ = x_prev_;
+    v_ = v_prev_;
   }
   return ok;
 }

@@ -4,15 +4,14 @@
 
 namespace virtual_tryon {
 
-bool ObjectSpaceCollider::collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal) const {
+bool ObjectSpaceCollider::collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const {
   const ClosestPoint cp = closestPointOnBody(body_, p);
   if (cp.face < 0) return false;
-  if (cp.distance >= tol_) {
-    // Far enough out, or deep inside: the sign decides.
-    const Eigen::Vector3d n = body_.faceNormals().row(cp.face).transpose();
-    if (n.dot(p - cp.point) >= 0) return false;
-  }
-  normal = body_.faceNormals().row(cp.face).transpose();
+  const Eigen::Vector3d n = body_.faceNormals().row(cp.face).transpose();
+  const bool outside = n.dot(p - cp.point) >= 0;
+  if (outside && cp.distance >= tol_) return false;
+  normal = n;
+  depth = outside ? tol_ - cp.distance : tol_ + cp.distance;
   return true;
 }
 

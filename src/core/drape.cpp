@@ -25,23 +25,29 @@ std::string num(double v) {
 class CollisionResponse {
  public:
   CollisionResponse(const BodyCollider& collider, const CollisionParams& p, bool quads,
-                    const ClothState& cloth)
-      : collider_(collider), p_(p), quads_(quads), cloth_(cloth) {}
+                    const ClothState& cloth, double dt, double pushOut)
+      : collider_(collider), p_(p), quads_(quads), cloth_(cloth), dt_(dt), push_out_(pushOut) {}
 
   void operator()(const MatrixX3d& x, MatrixX3d& v) {
     const Eigen::Index n = x.rows();
     sum_.setZero(n, 3);
     count_.assign(static_cast<std::size_t>(n), 0);
     Eigen::Vector3d normal;
+    double depth = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      if (!collider_.collide(x.row(i).transpose(), normal)) continue;
-      sum_.row(i) += collisionResponse(v.row(i).transpose(), normal, p_.friction, p_.reflection).transpose();
+      if (!collider_.collide(x.row(i).transpose(), normal, depth)) continue;
+      Eigen::Vector3d r = collisionResponse(v.row(i).transpose(), normal, p_.friction, p_.reflection);
+      // Beyond the paper: a node deeper than the shell also gets back a fraction of its depth per
+      // step, so points the velocity response alone leaves inside come out (bounded: at most
+      // push_out * depth / dt).
+      if (depth > p_.tol && dt_ > 0) r += (push_out_ * (depth - p_.tol) / dt_) * normal;
+      sum_.row(i) += r.transpose();
       ++count_[i];
     }
     if (quads_)
       for (const auto& q : cloth_.quads()) {
         const Eigen::Vector3d mid = 0.25 * (x.row(q[0]) + x.row(q[1]) + x.row(q[2]) + x.row(q[3])).transpose();
-        if (!collider_.collide(mid, normal)) continue;
+        if (!collider_.collide(mid, normal, depth)) continue;
         const Eigen::Vector3d vm = 0.25 * (v.row(q[0]) + v.row(q[1]) + v.row(q[2]) + v.row(q[3])).transpose();
         const Eigen::RowVector3d r = collisionResponse(vm, normal, p_.friction, p_.reflection).transpose();
         for (int c : q) {
@@ -58,6 +64,7 @@ class CollisionResponse {
   CollisionParams p_;
   bool quads_;
   const ClothState& cloth_;
+  double dt_, push_out_;
   MatrixX3d sum_;
   std::vector<int> count_;
 };
@@ -145,7 +152,8 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
     body.bvh();
     collider = std::make_unique<ObjectSpaceCollider>(body, params.collision.tol);
   }
-  CollisionResponse response(*collider, params.collision, params.quad_midpoints, cloth);
+  CollisionResponse response(*collider, params.collision, params.quad_midpoints, cloth, rep.dt,
+                             params.push_out);
   cloth.setVelocityHook([&response](const MatrixX3d& x, MatrixX3d& v) { response(x, v); });
   const double weldTol = params.weld_tolerance > 0 ? params.weld_tolerance : 0.5 * params.spacing;
   rep.seconds_setup = since(tStart);

@@ -108,6 +108,7 @@ class ClothState {
   ClothParams params_;
   double mass_ = 0;
   MatrixX3d x_, v_, f_;
+  MatrixX3d x_prev_, v_prev_;  // the state before the current step
   std::vector<double> m_;
   std::vector<Spring> springs_;
   std::vector<double> k_;  // stiffness per spring

@@ -18,15 +18,16 @@ class BodyCollider {
  public:
   virtual ~BodyCollider() = default;
   // True when p is inside the body or within the tolerance of its surface; `normal` receives the
-  // outward body normal to respond along.
-  virtual bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal) const = 0;
+  // outward body normal to respond along and `depth` how far p lies inside the tolerance shell
+  // (metres, >= 0).
+  virtual bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const = 0;
 };
 
 class ImageSpaceCollider : public BodyCollider {
  public:
   explicit ImageSpaceCollider(std::shared_ptr<const DepthMaps> maps) : maps_(std::move(maps)) {}
-  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal) const override {
-    return maps_->collide(p, normal);
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const override {
+    return maps_->collide(p, normal, &depth);
   }
   const DepthMaps& maps() const { return *maps_; }
 
@@ -39,7 +40,7 @@ class ImageSpaceCollider : public BodyCollider {
 class ObjectSpaceCollider : public BodyCollider {
  public:
   ObjectSpaceCollider(const Body& body, double tol) : body_(body), tol_(tol) {}
-  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal) const override;
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const override;
 
  private:
   const Body& body_;

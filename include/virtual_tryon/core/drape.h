@@ -23,6 +23,9 @@ struct DrapeParams {
   CollisionParams collision;
   CollisionMode mode = CollisionMode::ImageSpace;
   bool quad_midpoints = true;  // also test each quad's midpoint (sec. 6)
+  // Beyond the paper: a node found deeper than tol also moves out by this fraction of the excess
+  // depth per step (0: the paper's velocity-only response).
+  double push_out = 0.0;
   double dt = 0;               // seconds; 0: dt_safety * the eq. 4 bound
   double dt_safety = 0.9;
   bool clamp_dt = false;       // a dt above the bound: refuse (false) or clamp with a warning (true)
