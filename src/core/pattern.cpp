@@ -2,6 +2,7 @@
 // (Meshing: pattern_mesher.cpp; YAML: pattern_yaml.cpp.)
 #include "virtual_tryon/core/pattern.h"
 
+#include "pattern_text.h"
 #include "polygon2d.h"
 
 #include <algorithm>
@@ -12,15 +13,8 @@ namespace virtual_tryon {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-std::string panelLabel(const GarmentPattern& pattern, int p) {
-  return "panel '" + pattern.panels[static_cast<std::size_t>(p)].name + "' (index " + std::to_string(p) + ")";
-}
+using pattern_text::num;
+using pattern_text::panelLabel;
 
 // Edges walked going up in index order from `from` to `to` (wrapping), on an outline of n points.
 int edgesUp(int n, const OutlineStretch& s) { return ((s.to - s.from) % n + n) % n; }

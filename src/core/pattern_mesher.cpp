@@ -2,6 +2,7 @@
 // springs, triangles and seam pairs. The rules are spelled out in pattern.h.
 #include "virtual_tryon/core/pattern.h"
 
+#include "pattern_text.h"
 #include "polygon2d.h"
 
 #include <algorithm>
@@ -21,15 +22,8 @@ constexpr double kOnOutline = 1e-9;               // metres: a node this close c
 constexpr double kMaxGridNodes = 2e7;             // per panel, before clipping
 constexpr double kNearStretch = 0.75;             // * spacing: boundary nodes "near" a stretch
 
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-std::string panelLabel(const GarmentPattern& pattern, int p) {
-  return "panel '" + pattern.panels[static_cast<std::size_t>(p)].name + "' (index " + std::to_string(p) + ")";
-}
+using pattern_text::num;
+using pattern_text::panelLabel;
 
 // Link bits stored at grid node (i, j).
 enum : std::uint8_t { kLinkU = 1, kLinkV = 2 };
