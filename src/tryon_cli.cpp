@@ -1,7 +1,9 @@
 // `tryon`: the core without ROS, for batch use. See `tryon --help`.
 // Exit codes: 0 converged / clean, 3 not converged / not clean, 2 bad input or usage.
 #include "virtual_tryon/core/body.h"
+#include "virtual_tryon/core/drape.h"
 #include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/pattern.h"
 #include "virtual_tryon/core/penetration_resolver.h"
 #include "virtual_tryon/core/procedural.h"
 #include "virtual_tryon/core/reference_check.h"
@@ -9,43 +11,85 @@
 
 #include <sys/stat.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
+#include <sstream>
 #include <string>
 
 namespace vt = virtual_tryon;
 
 namespace {
 
-const char* kUsage =
-    "usage:\n"
-    "  tryon resolve --body B --garment G --out OUT [--clearance M] [--max-iterations N]\n"
-    "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON.\n"
-    "      Exit 0 converged, 3 not converged, 2 bad input.\n"
-    "  tryon check --body B --garment G\n"
-    "      Independent brute-force count of crossings (both directions) and inside vertices.\n"
-    "      Exit 0 when all are zero, 3 otherwise.\n"
-    "  tryon demo --out DIR\n"
-    "      Resolves the built-in procedural scene; writes body.obj, garment_in.obj,\n"
-    "      garment_out.obj and report.json into DIR.\n"
-    "Meshes: OBJ, PLY or STL, metres, body faces wound counter-clockwise seen from outside.\n";
+// The usage text; the drape defaults come from the core's DrapeParams.
+std::string usage() {
+  const vt::DrapeParams d;
+  auto g = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  return "usage:\n"
+         "  tryon resolve --body B --garment G --out OUT [--clearance M] [--max-iterations N]\n"
+         "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON.\n"
+         "      Exit 0 converged, 3 not converged, 2 bad input.\n"
+         "  tryon check --body B --garment G\n"
+         "      Independent brute-force count of crossings (both directions) and inside vertices.\n"
+         "      Exit 0 when all are zero, 3 otherwise.\n"
+         "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
+         "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
+         "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
+         "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
+         "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
+         "      --spacing      cloth grid spacing, m (default " + g(d.spacing) + ")\n"
+         "      --mode         collisions: image (depth maps, default) or object (body mesh)\n"
+         "      --dt           time step, s (default: " + g(d.dt_safety) + " x the stability bound;\n"
+         "                     a dt above the bound is refused)\n"
+         "      --max-iterations  sewing + draping iterations (default " + g(d.max_iterations) + ")\n"
+         "      --tol          collision tolerance, m (default " + g(d.collision.tol) + ")\n"
+         "      --map-size     depth map pixels along the longer side (default 0: one pixel = tol)\n"
+         "      Prints the report as JSON and writes the garment (one welded mesh) to OUT.\n"
+         "      Exit 0 converged, 3 not converged, 2 bad input or a failed drape (message on\n"
+         "      stderr; no OUT written).\n"
+         "  tryon demo --out DIR\n"
+         "      Resolves the built-in procedural scene; writes body.obj, garment_in.obj,\n"
+         "      garment_out.obj and report.json into DIR.\n"
+         "Meshes: OBJ, PLY or STL, metres, body faces wound counter-clockwise seen from outside.\n";
+}
 
 struct Usage : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Options without a value.
+const std::set<std::string> kFlags = {"no-resolve"};
+
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
   for (int i = first; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a.rfind("--", 0) != 0 || i + 1 >= argc) throw Usage("unexpected argument '" + a + "'");
-    opt[a.substr(2)] = argv[++i];
+    if (a.rfind("--", 0) != 0) throw Usage("unexpected argument '" + a + "'");
+    const std::string key = a.substr(2);
+    if (kFlags.count(key)) {
+      opt[key] = "";
+      continue;
+    }
+    if (i + 1 >= argc) throw Usage("--" + key + " needs a value");
+    opt[key] = argv[++i];
   }
   return opt;
+}
+
+// Refuses options the command does not know (a typo would otherwise be silently ignored).
+void allowOnly(const std::map<std::string, std::string>& opt, const std::string& cmd,
+               const std::set<std::string>& known) {
+  for (const auto& kv : opt)
+    if (!known.count(kv.first)) throw Usage("'" + cmd + "' has no option --" + kv.first);
 }
 
 std::string required(const std::map<std::string, std::string>& opt, const std::string& key) {
@@ -62,6 +106,16 @@ double number(const std::map<std::string, std::string>& opt, const std::string& 
   if (end == it->second.c_str() || *end != '\0' || !std::isfinite(v))
     throw Usage("--" + key + " needs a number, got '" + it->second + "'");
   return v;
+}
+
+// An integer option in [lo, hi].
+int integer(const std::map<std::string, std::string>& opt, const std::string& key, int def, int lo,
+            int hi) {
+  const double v = number(opt, key, def);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw Usage("--" + key + " must be an integer between " + std::to_string(lo) + " and " +
+                std::to_string(hi) + ", got '" + opt.at(key) + "'");
+  return static_cast<int>(v);
 }
 
 vt::TriMesh load(const std::string& path, const std::string& what) {
@@ -108,6 +162,54 @@ int check(const std::map<std::string, std::string>& opt) {
   return (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) == 0 ? 0 : 3;
 }
 
+int drape(const std::map<std::string, std::string>& opt) {
+  const std::string bodyPath = required(opt, "body");
+  const std::string patternPath = required(opt, "pattern");
+  const std::string out = required(opt, "out");
+  vt::DrapeParams p;
+  p.spacing = number(opt, "spacing", p.spacing);
+  if (opt.count("mode")) {
+    const std::string& m = opt.at("mode");
+    if (m == "image")
+      p.mode = vt::CollisionMode::ImageSpace;
+    else if (m == "object")
+      p.mode = vt::CollisionMode::ObjectSpace;
+    else
+      throw Usage("--mode must be 'image' or 'object', got '" + m + "'");
+  }
+  p.dt = number(opt, "dt", p.dt);
+  p.max_iterations = integer(opt, "max-iterations", p.max_iterations, 1, 1000000000);
+  p.resolve = !opt.count("no-resolve");
+  p.collision.tol = number(opt, "tol", p.collision.tol);
+  p.collision.map_size = integer(opt, "map-size", p.collision.map_size, 0, 1000000000);
+  const std::string bad = vt::validateDrapeParams(p);
+  if (!bad.empty()) throw std::invalid_argument(bad);
+
+  vt::GarmentPattern pattern;
+  std::string err;
+  if (!vt::readPatternYaml(patternPath, pattern, err)) throw std::invalid_argument(err);
+  const vt::Body body(load(bodyPath, "body"));
+  vt::TriMesh garment;
+  auto last = std::chrono::steady_clock::now();
+  const vt::DrapeReport rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last >= std::chrono::seconds(2)) {
+      last = now;
+      std::cerr << "tryon: drape: iteration " << pr.iteration << (pr.sewing ? " (sewing)" : " (draping)")
+                << ", " << pr.seconds << " s, max speed " << pr.max_speed << " m/s\n";
+    }
+    return true;
+  });
+  std::cout << vt::toJson(rep) << std::endl;
+  if (!rep.success) {
+    std::cerr << "tryon: drape failed: " << rep.message << "\n";
+    return 2;
+  }
+  for (const std::string& w : rep.warnings) std::cerr << "warning: " << w << "\n";
+  save(out, garment);
+  return rep.converged ? 0 : 3;
+}
+
 int demo(const std::map<std::string, std::string>& opt) {
   const std::string dir = required(opt, "out");
   ::mkdir(dir.c_str(), 0755);
@@ -129,17 +231,31 @@ int demo(const std::map<std::string, std::string>& opt) {
 int main(int argc, char** argv) {
   try {
     if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-      std::cout << kUsage;
+      std::cout << usage();
       return argc < 2 ? 2 : 0;
     }
     const std::string cmd = argv[1];
     const auto opt = parseOptions(argc, argv, 2);
-    if (cmd == "resolve") return resolve(opt);
-    if (cmd == "check") return check(opt);
-    if (cmd == "demo") return demo(opt);
+    if (cmd == "resolve") {
+      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations"});
+      return resolve(opt);
+    }
+    if (cmd == "check") {
+      allowOnly(opt, cmd, {"body", "garment"});
+      return check(opt);
+    }
+    if (cmd == "drape") {
+      allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
+                           "no-resolve", "tol", "map-size"});
+      return drape(opt);
+    }
+    if (cmd == "demo") {
+      allowOnly(opt, cmd, {"out"});
+      return demo(opt);
+    }
     throw Usage("unknown command '" + cmd + "'");
   } catch (const Usage& e) {
-    std::cerr << "tryon: " << e.what() << "\n" << kUsage;
+    std::cerr << "tryon: " << e.what() << "\n" << usage();
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "tryon: " << e.what() << "\n";

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace virtual_tryon {
 namespace {
@@ -33,6 +35,12 @@ class Obj {
   Obj& add(const char* k, bool v) { return raw(k, v ? "true" : "false"); }
   Obj& add(const char* k, std::size_t v) { return raw(k, std::to_string(v)); }
   Obj& add(const char* k, int v) { return raw(k, std::to_string(v)); }
+  Obj& add(const char* k, const std::vector<std::string>& v) {
+    std::string a = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) a += (i ? ", " : "") + quoted(v[i]);
+    return raw(k, a + "]");
+  }
+  Obj& json(const char* k, const std::string& v) { return raw(k, v); }  // v: JSON text
   Obj& add(const char* k, double v) {
     if (!std::isfinite(v)) return raw(k, "null");
     std::ostringstream o;
@@ -85,6 +93,41 @@ std::string toJson(const ReferenceCounts& c) {
       .add("body_edge_crossings", c.body_edge_crossings)
       .add("vertices_inside", c.vertices_inside)
       .add("max_depth_m", c.max_depth)
+      .str();
+}
+
+std::string toJson(const DrapeReport& r) {
+  return Obj()
+      .add("success", r.success)
+      .add("converged", r.converged)
+      .add("cancelled", r.cancelled)
+      .add("message", r.message)
+      .add("warnings", r.warnings)
+      .add("vertices", r.vertices)
+      .add("triangles", r.triangles)
+      .add("iterations", r.iterations)
+      .add("sew_iterations", r.sew_iterations)
+      .add("dt_s", r.dt)
+      .add("dt_bound_s", r.dt_bound)
+      .add("dt_bound_paper_s", r.dt_bound_paper)
+      .add("map_size", r.map_size)
+      .add("seconds_setup", r.seconds_setup)
+      .add("seconds_simulation", r.seconds_simulation)
+      .add("seconds_per_iteration", r.seconds_per_iteration)
+      .add("seconds_resolve", r.seconds_resolve)
+      .add("seconds_total", r.seconds_total)
+      .add("seams_total", r.seams_total)
+      .add("seams_open", r.seams_open)
+      .add("seam_gap_max_m", r.seam_gap_max)
+      .add("seam_gap_mean_m", r.seam_gap_mean)
+      .add("strain_max", r.strain_max)
+      .add("strain_mean", r.strain_mean)
+      .add("max_speed_m_per_s", r.max_speed)
+      .add("kinetic_energy_j", r.kinetic_energy)
+      .add("penetrating_before_resolve", r.penetrating_before_resolve)
+      .add("penetrating_after", r.penetrating_after)
+      .add("resolver_run", r.resolver_run)
+      .json("resolver", r.resolver_run ? toJson(r.resolver) : std::string("null"))
       .str();
 }
 

@@ -42,5 +42,56 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   return m;
 }
 
+DrapeReportMsg toMsg(const DrapeReport& r, CollisionMode mode) {
+  DrapeReportMsg m;
+  m.converged = r.converged;
+  m.cancelled = r.cancelled;
+  m.message = r.message;
+  m.warnings = r.warnings;
+  m.vertices = u32(r.vertices);
+  m.triangles = u32(r.triangles);
+  m.iterations = u32(r.iterations);
+  m.sew_iterations = u32(r.sew_iterations);
+  m.dt = r.dt;
+  m.dt_bound = r.dt_bound;
+  m.dt_bound_paper = r.dt_bound_paper;
+  m.collision_mode = collisionModeName(mode);
+  m.map_size = u32(r.map_size);
+  m.seconds_setup = r.seconds_setup;
+  m.seconds_simulation = r.seconds_simulation;
+  m.seconds_per_iteration = r.seconds_per_iteration;
+  m.seconds_resolve = r.seconds_resolve;
+  m.seconds_total = r.seconds_total;
+  m.seams_total = u32(r.seams_total);
+  m.seams_open = u32(r.seams_open);
+  m.seam_gap_max = r.seam_gap_max;
+  m.seam_gap_mean = r.seam_gap_mean;
+  m.strain_max = r.strain_max;
+  m.strain_mean = r.strain_mean;
+  m.max_speed = r.max_speed;
+  m.kinetic_energy = r.kinetic_energy;
+  m.penetrating_before_resolve = u32(r.penetrating_before_resolve);
+  m.penetrating_after = u32(r.penetrating_after);
+  m.resolver_run = r.resolver_run;
+  m.resolver = toMsg(r.resolver);
+  return m;
+}
+
+std::string collisionModeName(CollisionMode mode) {
+  return mode == CollisionMode::ObjectSpace ? "object" : "image";
+}
+
+bool parseCollisionMode(const std::string& name, CollisionMode& mode) {
+  if (name == "image") {
+    mode = CollisionMode::ImageSpace;
+    return true;
+  }
+  if (name == "object") {
+    mode = CollisionMode::ObjectSpace;
+    return true;
+  }
+  return false;
+}
+
 }  // namespace ros_conversions
 }  // namespace virtual_tryon

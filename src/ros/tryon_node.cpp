@@ -70,6 +70,12 @@ int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
   return v;
 }
 
+std::string seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", s);
+  return buf;
+}
+
 std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
   std_msgs::ColorRGBA c;
   c.r = r;
@@ -106,7 +112,9 @@ TryonNode::TryonNode(ros::NodeHandle nh, ros::NodeHandle pnh)
   body_sub_ = pnh_.subscribe("body_mesh", 1, &TryonNode::onBody, this);
   garment_sub_ = pnh_.subscribe("garment_mesh", 1, &TryonNode::onGarment, this);
   resolve_srv_ = pnh_.advertiseService("resolve_penetration", &TryonNode::onResolve, this);
-  ROS_INFO_STREAM("tryon_node: ready; service " << resolve_srv_.getService() << ", topics "
+  drape_srv_ = pnh_.advertiseService("drape", &TryonNode::onDrape, this);
+  ROS_INFO_STREAM("tryon_node: ready; services " << resolve_srv_.getService() << ", "
+                                                 << drape_srv_.getService() << ", topics "
                                                 << body_sub_.getTopic() << ", "
                                                 << garment_sub_.getTopic());
 }
@@ -122,6 +130,7 @@ void TryonNode::readParameters() {
   pnh_.param("push_out_inside", p.push_out_inside, d.push_out_inside);
   settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
   pnh_.param("body_frame", settings_.body_frame, std::string());
+  settings_.drape = readDrapeParameters(pnh_, settings_.resolver);
 }
 
 bool TryonNode::bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame,
@@ -190,6 +199,8 @@ bool TryonNode::onResolve(virtual_tryon::ResolvePenetration::Request& req,
     if (resolve(req, res, error)) return true;
   } catch (const std::exception& e) {
     error = std::string("internal error: ") + e.what();
+  } catch (...) {
+    error = "internal error (unknown exception)";
   }
   res.success = false;
   res.message = error;
@@ -242,17 +253,23 @@ bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, 
   return meshFromMsg(msg, "garment", mesh, error);
 }
 
-bool TryonNode::transformInto(const std::string& from, const std::string& to, TriMesh& mesh,
-                              std::string& error) {
-  geometry_msgs::TransformStamped t;
+bool TryonNode::lookupTransform(const std::string& from, const std::string& to,
+                                const std::string& what, Eigen::Isometry3d& T, std::string& error) {
   try {
-    t = tf_buffer_.lookupTransform(to, from, ros::Time(0), ros::Duration(settings_.tf_timeout));
+    T = tf2::transformToEigen(
+        tf_buffer_.lookupTransform(to, from, ros::Time(0), ros::Duration(settings_.tf_timeout)));
   } catch (const tf2::TransformException& e) {
-    error = "no transform from the garment's frame '" + from + "' to the body's frame '" + to +
-            "' within " + std::to_string(settings_.tf_timeout) + " s: " + e.what();
+    error = "no transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
+            "' within " + seconds(settings_.tf_timeout) + " s: " + e.what();
     return false;
   }
-  const Eigen::Isometry3d T = tf2::transformToEigen(t);
+  return true;
+}
+
+bool TryonNode::transformInto(const std::string& from, const std::string& to, TriMesh& mesh,
+                              std::string& error) {
+  Eigen::Isometry3d T;
+  if (!lookupTransform(from, to, "garment", T, error)) return false;
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
     mesh.V.row(i) = (T * Eigen::Vector3d(mesh.V.row(i).transpose())).transpose();
   return true;

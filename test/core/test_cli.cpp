@@ -1,5 +1,6 @@
 // The `tryon` command end to end: exit codes, JSON on stdout, vertex order of the output.
 #include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/pattern.h"
 #include "virtual_tryon/core/procedural.h"
 #include "virtual_tryon/core/reference_check.h"
 
@@ -22,9 +23,10 @@ struct CliRun {
   std::string out;
 };
 
-CliRun run(const std::string& args) {
+// Runs the CLI; stdout into r.out, stderr into `errFile` (default: discarded).
+CliRun run(const std::string& args, const std::string& errFile = "/dev/null") {
   CliRun r;
-  const std::string cmd = std::string(VIRTUAL_TRYON_CLI) + " " + args + " 2>/dev/null";
+  const std::string cmd = std::string(VIRTUAL_TRYON_CLI) + " " + args + " 2>" + errFile;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
   char buf[4096];
@@ -44,6 +46,47 @@ std::string tempDir() {
 void save(const std::string& path, const TriMesh& m) {
   std::string err;
   ASSERT_TRUE(writeMesh(path, m, err)) << err;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// A bag over the top of a capsule (radius 0.15 m, 0.6 m cylinder along y, top at y = 0.45 m):
+// two 0.6 x 0.3 m panels wrapped half a turn each on a 0.2 m cylinder about y (front facing +z,
+// back turned half a turn), hem at y = 0.25 m, sewn along both sides and across the top. The
+// sewn top rests on the capsule's cap, so the cloth settles.
+const char* kBagPattern = R"(name: bag
+panels:
+  - name: front
+    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]
+    placement: {translation: [0, 0.25, 0], wrap_radius: 0.2}
+  - name: back
+    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]
+    placement: {translation: [0, 0.25, 0], rotation_rpy: [0, 3.141592653589793, 0], wrap_radius: 0.2}
+seams:
+  - a: {panel: front, from: 1, to: 2}
+    b: {panel: back, from: 0, to: 3}
+  - a: {panel: front, from: 0, to: 3}
+    b: {panel: back, from: 1, to: 2}
+  - a: {panel: front, from: 2, to: 3}
+    b: {panel: back, from: 3, to: 2}
+)";
+
+// Writes body.obj (the capsule) and bag.yaml into a new directory; returns it.
+std::string drapeScene() {
+  const std::string dir = tempDir();
+  std::string err;
+  EXPECT_TRUE(writeMesh(dir + "/body.obj", makeCapsule(0.15, 0.6), err)) << err;
+  std::ofstream(dir + "/bag.yaml") << kBagPattern;
+  return dir;
 }
 
 }  // namespace
@@ -93,4 +136,94 @@ TEST(Cli, BadInputExitsTwo) {
   std::ofstream(dir + "/nan.obj") << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
   EXPECT_EQ(run("resolve --body " + dir + "/body.obj --garment " + dir + "/nan.obj --out " + dir + "/o.obj").code, 2);
   EXPECT_EQ(run("--help").code, 0);
+}
+
+TEST(Cli, DrapeSettlesTheBagOnTheCapsulePrintsJsonAndWritesTheGarment) {
+  const std::string dir = drapeScene();
+  GarmentPattern pattern;
+  std::string err;
+  ASSERT_TRUE(readPatternYaml(dir + "/bag.yaml", pattern, err)) << err;  // the test's own input is valid
+
+  const CliRun r = run("drape --body " + dir + "/body.obj --pattern " + dir + "/bag.yaml --out " + dir +
+                       "/bag.obj --spacing 0.03");
+  EXPECT_EQ(r.code, 0) << r.out;
+  ASSERT_FALSE(r.out.empty());
+  EXPECT_EQ(r.out.front(), '{');
+  EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << "one line of JSON";
+  for (const char* key : {"\"success\": true", "\"converged\": true", "\"seams_total\": 3",
+                          "\"seams_open\": 0", "\"resolver_run\": true", "\"resolver\": {\"converged\": true",
+                          "\"penetrating_after\": 0", "\"dt_bound_s\": ", "\"warnings\": []"})
+    EXPECT_TRUE(contains(r.out, key)) << key << " not in " << r.out;
+  EXPECT_FALSE(contains(r.out, "\"map_size\": 0,")) << "image space is the default: maps were rendered";
+
+  TriMesh garment;
+  ASSERT_TRUE(readMesh(dir + "/bag.obj", garment, err)) << err;
+  EXPECT_TRUE(contains(r.out, "\"vertices\": " + std::to_string(garment.numVertices()) + ",")) << r.out;
+  EXPECT_GT(garment.numFaces(), 500);  // 2 panels of 20 x 10 quads at 3 cm
+  // Resting on the cap (top of the capsule at y = 0.45), not fallen off, and nothing crosses it.
+  const double top = garment.V.col(1).maxCoeff();
+  EXPECT_GT(top, 0.45);
+  EXPECT_LT(top, 0.50);
+  const ReferenceCounts c = referenceCounts(makeCapsule(0.15, 0.6), garment);
+  EXPECT_EQ(c.garment_edge_crossings, 0u);
+  EXPECT_EQ(c.body_edge_crossings, 0u);
+  EXPECT_EQ(c.vertices_inside, 0u);
+}
+
+TEST(Cli, DrapeOptionsReachTheCore) {
+  const std::string dir = drapeScene();
+  const std::string base = "drape --body " + dir + "/body.obj --pattern " + dir + "/bag.yaml --out " + dir + "/o.obj ";
+  // No resolver pass: reported as not run.
+  CliRun r = run(base + "--spacing 0.03 --no-resolve --mode image --tol 0.004 --map-size 128");
+  EXPECT_TRUE(r.code == 0 || r.code == 3) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"resolver_run\": false")) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"resolver\": null")) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"map_size\": 130")) << r.out;  // 128 + the one-pixel margins
+  // Too few iterations: not converged, exit 3, the garment is still written.
+  std::remove((dir + "/o.obj").c_str());
+  r = run(base + "--spacing 0.03 --max-iterations 20");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"converged\": false")) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"iterations\": 20,")) << r.out;
+  EXPECT_TRUE(contains(r.out, "iteration limit 20")) << r.out;
+  EXPECT_TRUE(std::ifstream(dir + "/o.obj").good());
+  // An explicit dt below the bound is used as given.
+  r = run(base + "--spacing 0.03 --max-iterations 20 --dt 0.001");
+  EXPECT_TRUE(contains(r.out, "\"dt_s\": 0.001,")) << r.out;
+}
+
+TEST(Cli, DrapeBadInputExitsTwo) {
+  const std::string dir = drapeScene();
+  const std::string body = " --body " + dir + "/body.obj";
+  const std::string out = " --out " + dir + "/o.obj";
+  const std::string err = dir + "/stderr.txt";
+
+  CliRun r = run("drape" + body + " --pattern " + dir + "/missing.yaml" + out, err);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(readText(err), "missing.yaml")) << readText(err);
+
+  std::ofstream(dir + "/broken.yaml") << "name: x\npanels:\n  - name: a\n    outline: [[0, 0], [1, 0]]\n";
+  r = run("drape" + body + " --pattern " + dir + "/broken.yaml" + out, err);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(readText(err), "broken.yaml")) << readText(err);
+
+  // dt far above the eq. 4 bound: refused by the core, message on stderr names the bound.
+  r = run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0.03 --dt 0.5", err);
+  EXPECT_EQ(r.code, 2) << r.out;
+  const std::string e = readText(err);
+  EXPECT_TRUE(contains(e, "stability bound")) << e;
+  EXPECT_TRUE(contains(e, "0.5")) << e;
+  EXPECT_TRUE(contains(r.out, "\"success\": false")) << r.out;
+  EXPECT_FALSE(std::ifstream(dir + "/o.obj").good()) << "no garment is written on failure";
+
+  // Parameters out of range (core validateDrapeParams) and usage errors.
+  r = run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --tol -1", err);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(readText(err), "tol")) << readText(err);
+  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --mode mesh").code, 2);
+  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --map-size 12.5").code, 2);
+  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0").code, 2);
+  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spaceing 0.03").code, 2);
+  EXPECT_EQ(run("drape" + body + out).code, 2);  // no --pattern
+  EXPECT_FALSE(std::ifstream(dir + "/o.obj").good());
 }

@@ -1,6 +1,7 @@
 // Reports as JSON text (one object, stable key order), for the CLI, the demo and benchmarks.
 #pragma once
 
+#include "virtual_tryon/core/drape.h"
 #include "virtual_tryon/core/penetration_resolver.h"
 #include "virtual_tryon/core/reference_check.h"
 
@@ -10,5 +11,8 @@ namespace virtual_tryon {
 
 std::string toJson(const ResolverReport& report);
 std::string toJson(const ReferenceCounts& counts);
+// Every DrapeReport field (units in the key: _m, _s, _m_per_s, _j); the resolver's report nested
+// as "resolver": {...} when it ran, else "resolver": null.
+std::string toJson(const DrapeReport& report);
 
 }  // namespace virtual_tryon

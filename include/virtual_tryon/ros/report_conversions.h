@@ -1,15 +1,30 @@
-// Core ResolverReport -> virtual_tryon/PenetrationReport message. Plain function, no state.
+// Core reports -> virtual_tryon/PenetrationReport and virtual_tryon/DrapeReport messages. Plain
+// functions, no state.
 #pragma once
 
+#include "virtual_tryon/core/collider.h"
+#include "virtual_tryon/core/drape.h"
 #include "virtual_tryon/core/penetration_resolver.h"
+#include "virtual_tryon/ros/msgs.h"
 
 #include <virtual_tryon/PenetrationReport.h>
+
+#include <string>
 
 namespace virtual_tryon {
 namespace ros_conversions {
 
 // Field-by-field copy; counts are clamped to the uint32 range of the message.
 virtual_tryon::PenetrationReport toMsg(const ResolverReport& report);
+
+// Field-by-field copy (counts clamped to uint32, the resolver report nested); the core report
+// does not record the collision mode, so it is given: collision_mode = collisionModeName(mode).
+DrapeReportMsg toMsg(const DrapeReport& report, CollisionMode mode);
+
+// "image" / "object".
+std::string collisionModeName(CollisionMode mode);
+// "image" or "object" (exactly, lower case) -> mode; false for anything else (mode unchanged).
+bool parseCollisionMode(const std::string& name, CollisionMode& mode);
 
 }  // namespace ros_conversions
 }  // namespace virtual_tryon

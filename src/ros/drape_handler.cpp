@@ -1,0 +1,204 @@
+// TryonNode's ~drape service (Vassilev et al. 2001 through the core's drape()) and its drape/
+// parameters. The rest of the node is in tryon_node.cpp.
+#include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/pattern_conversions.h"
+#include "virtual_tryon/ros/report_conversions.h"
+#include "virtual_tryon/ros/tryon_node.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <sstream>
+#include <string>
+
+namespace virtual_tryon {
+namespace {
+
+namespace rc = ros_conversions;
+
+template <typename T>
+std::string show(const T& v) {
+  std::ostringstream o;
+  o << std::boolalpha << v;
+  return o.str();
+}
+
+// Reads ~name into field(p) when the parameter is set. The new value is checked by the core's
+// validateDrapeParams with every other field as read so far (all valid), so a problem it reports
+// is this value's; then the value is refused with a warning quoting the core and the previous
+// value (the default) is kept.
+template <typename T, typename Field>
+void readChecked(const ros::NodeHandle& pnh, const std::string& name, DrapeParams& p, Field field) {
+  if (!pnh.hasParam(name)) return;
+  T value{};
+  if (!pnh.getParam(name, value)) {
+    ROS_WARN_STREAM("tryon_node: ~" << name << " has the wrong type; using " << show(field(p)));
+    return;
+  }
+  DrapeParams trial = p;
+  field(trial) = value;
+  const std::string problem = validateDrapeParams(trial);
+  if (!problem.empty()) {
+    ROS_WARN_STREAM("tryon_node: ~" << name << " = " << show(value) << " is invalid: " << problem
+                                    << "; using " << show(field(p)));
+    return;
+  }
+  field(p) = value;
+}
+
+// Logs the drape's progress at most every two seconds; cancels the drape when ROS shuts down.
+class ProgressLog {
+ public:
+  bool operator()(const DrapeProgress& p) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ >= std::chrono::seconds(2)) {
+      last_ = now;
+      ROS_INFO("tryon_node: drape: iteration %d (%s), %.1f s, largest seam gap %.4f m, "
+               "max speed %.3f m/s",
+               p.iteration, p.sewing ? "sewing" : "draping", p.seconds, p.seam_gap, p.max_speed);
+    }
+    return ros::ok();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
+                                           const ResolverParams& resolver) {
+  DrapeParams p;
+  p.resolver = resolver;
+  const std::string problem = validateDrapeParams(p);
+  if (!problem.empty())  // the core's defaults; cannot happen unless the core changes
+    ROS_ERROR_STREAM("tryon_node: the default drape parameters are invalid: " << problem);
+
+  readChecked<double>(pnh, "drape/spacing", p, [](DrapeParams& q) -> double& { return q.spacing; });
+  std::string mode;
+  if (pnh.getParam("drape/collision_mode", mode) && !rc::parseCollisionMode(mode, p.mode))
+    ROS_WARN_STREAM("tryon_node: ~drape/collision_mode = '" << mode
+                                                            << "' is invalid (\"image\" or \"object\"); using "
+                                                            << rc::collisionModeName(p.mode));
+  readChecked<double>(pnh, "drape/tol", p, [](DrapeParams& q) -> double& { return q.collision.tol; });
+  readChecked<int>(pnh, "drape/map_size", p, [](DrapeParams& q) -> int& { return q.collision.map_size; });
+  readChecked<double>(pnh, "drape/friction", p, [](DrapeParams& q) -> double& { return q.collision.friction; });
+  readChecked<double>(pnh, "drape/reflection", p, [](DrapeParams& q) -> double& { return q.collision.reflection; });
+  readChecked<double>(pnh, "drape/density", p, [](DrapeParams& q) -> double& { return q.cloth.density; });
+  readChecked<double>(pnh, "drape/k_structural", p, [](DrapeParams& q) -> double& { return q.cloth.k_structural; });
+  readChecked<double>(pnh, "drape/k_shear", p, [](DrapeParams& q) -> double& { return q.cloth.k_shear; });
+  readChecked<double>(pnh, "drape/k_flexion", p, [](DrapeParams& q) -> double& { return q.cloth.k_flexion; });
+  readChecked<double>(pnh, "drape/k_seam", p, [](DrapeParams& q) -> double& { return q.cloth.k_seam; });
+  readChecked<double>(pnh, "drape/damping_rate", p, [](DrapeParams& q) -> double& { return q.cloth.damping_rate; });
+  readChecked<double>(pnh, "drape/stretch_threshold", p,
+                      [](DrapeParams& q) -> double& { return q.cloth.stretch_threshold; });
+  readChecked<double>(pnh, "drape/dt", p, [](DrapeParams& q) -> double& { return q.dt; });
+  readChecked<bool>(pnh, "drape/clamp_dt", p, [](DrapeParams& q) -> bool& { return q.clamp_dt; });
+  readChecked<int>(pnh, "drape/max_iterations", p, [](DrapeParams& q) -> int& { return q.max_iterations; });
+  readChecked<double>(pnh, "drape/settle_speed", p, [](DrapeParams& q) -> double& { return q.settle_speed; });
+  readChecked<bool>(pnh, "drape/resolve", p, [](DrapeParams& q) -> bool& { return q.resolve; });
+  readChecked<double>(pnh, "drape/time_budget", p, [](DrapeParams& q) -> double& { return q.time_budget; });
+  ROS_INFO("tryon_node: drape: spacing %g m, %s space, tol %g m, map_size %d, friction %g, "
+           "reflection %g, density %g kg/m^2, k %g/%g/%g/%g N/m (structural/shear/flexion/seam), "
+           "damping %g 1/s, stretch threshold %g, dt %g s%s, max %d iterations, settle %g m/s, "
+           "resolve %s, time budget %g s",
+           p.spacing, rc::collisionModeName(p.mode).c_str(), p.collision.tol, p.collision.map_size,
+           p.collision.friction, p.collision.reflection, p.cloth.density, p.cloth.k_structural,
+           p.cloth.k_shear, p.cloth.k_flexion, p.cloth.k_seam, p.cloth.damping_rate,
+           p.cloth.stretch_threshold, p.dt, p.clamp_dt ? " (clamp_dt: clamp to the bound)" : "",
+           p.max_iterations, p.settle_speed, p.resolve ? "on" : "off", p.time_budget);
+  return p;
+}
+
+bool TryonNode::onDrape(virtual_tryon::Drape::Request& req, virtual_tryon::Drape::Response& res) {
+  std::string error;
+  try {
+    if (drape(req, res, error)) return true;
+  } catch (const std::exception& e) {
+    error = std::string("internal error: ") + e.what();
+  } catch (...) {
+    error = "internal error (unknown exception)";
+  }
+  res = virtual_tryon::Drape::Response();
+  res.success = false;
+  res.message = error;
+  ROS_WARN_STREAM("tryon_node: drape failed: " << error);
+  return true;  // the call itself worked; the response says why it failed
+}
+
+bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
+                      virtual_tryon::Drape::Response& res, std::string& error) {
+  // Parameters: zero / empty request fields keep the node's.
+  DrapeParams params = settings_.drape;
+  if (req.spacing != 0) params.spacing = req.spacing;
+  if (req.dt != 0) params.dt = req.dt;
+  if (!req.collision_mode.empty() && !rc::parseCollisionMode(req.collision_mode, params.mode)) {
+    error = "collision_mode '" + req.collision_mode +
+            "' is unknown (\"image\", \"object\", or \"\" for ~drape/collision_mode)";
+    return false;
+  }
+  if (req.max_iterations > 0)
+    params.max_iterations = static_cast<int>(
+        std::min<std::uint32_t>(req.max_iterations, std::numeric_limits<int>::max()));
+  if (req.skip_resolve) params.resolve = false;
+  error = validateDrapeParams(params);
+  if (!error.empty()) return false;
+
+  GarmentPattern pattern;
+  if (!rc::fromMsg(req.pattern, pattern, error)) {
+    error = "pattern: " + error;
+    return false;
+  }
+  error = validatePattern(pattern);
+  if (!error.empty()) {
+    error = "pattern: " + error;
+    return false;
+  }
+  BodyState body;
+  if (!requestBody(req.body, body, error)) return false;
+  const std::string& patternFrame = req.pattern.header.frame_id;
+  if (!patternFrame.empty() && patternFrame != body.frame) {
+    Eigen::Isometry3d T;
+    if (!lookupTransform(patternFrame, body.frame, "pattern", T, error)) return false;
+    for (Panel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
+  }
+
+  const int rendersBefore = body.body->depthMapRenders();
+  TriMesh garment;
+  ProgressLog progress;
+  const DrapeReport report = virtual_tryon::drape(
+      *body.body, pattern, params, garment,
+      [&progress](const DrapeProgress& p) { return progress(p); });
+  const bool rendered = body.body->depthMapRenders() > rendersBefore;
+
+  res.success = report.success;
+  res.report = rc::toMsg(report, params.mode);
+  res.message = report.message;
+  if (!report.success) {
+    ROS_WARN_STREAM("tryon_node: drape failed: " << report.message);
+    return true;
+  }
+  if (params.mode == CollisionMode::ImageSpace)
+    res.message += rendered ? "; depth maps rendered (" + std::to_string(report.map_size) + " px)"
+                            : "; depth maps reused (cached with the body)";
+  std_msgs::Header header;
+  header.frame_id = body.frame;
+  header.stamp = ros::Time::now();
+  rc::toMsg(garment, header, res.garment);
+  ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
+           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %s",
+           report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
+           report.penetrating_before_resolve, report.penetrating_after,
+           report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
+           report.converged ? "converged" : "NOT converged");
+  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
+  for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
+
+  fitted_pub_.publish(res.garment);
+  publishMarkers(body.body->mesh(), body.frame, &garment);
+  return true;
+}
+
+}  // namespace virtual_tryon

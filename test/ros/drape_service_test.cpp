@@ -1,0 +1,301 @@
+// Client-side test of tryon_node's ~drape service (started by drape_service.test): a bag of two
+// wrapped panels sewn round the top of a capsule, judged by the core's independent brute-force
+// counter (reference_check.h); the latched markers; a dt above the stability bound; the depth map
+// cache; bad patterns; pattern frames through tf. Tests run in the order written: the first one
+// needs a node that has not received a body on its topic.
+#include "virtual_tryon/core/mesh.h"
+#include "virtual_tryon/core/pattern.h"
+#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/msgs.h"  // virtual_tryon::Drape (renamed drape messages)
+#include "virtual_tryon/ros/pattern_conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <pcl_msgs/PolygonMesh.h>
+#include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <mutex>
+#include <string>
+
+namespace vt = virtual_tryon;
+namespace rc = virtual_tryon::ros_conversions;
+using vt::Drape;
+
+namespace {
+
+const std::string kService = "/tryon_node/drape";
+constexpr double kSpacing = 0.03;  // 2 x 200 quads: quick
+
+// The body: capsule of radius 0.15 m with a 0.6 m cylinder along y, so its top is at y = 0.45.
+vt::TriMesh capsule() { return vt::makeCapsule(0.15, 0.6); }
+
+// A bag over the top of the capsule: two 0.6 x 0.3 m rectangles wrapped half a turn each on a
+// 0.2 m cylinder about y (front facing +z; back turned half a turn about y), hem at y = 0.25,
+// sewn along both sides into a tube and across the top, so that it rests on the cap.
+vt::GarmentPattern bag() {
+  vt::GarmentPattern p;
+  p.name = "bag";
+  for (int i = 0; i < 2; ++i) {
+    vt::Panel panel;
+    panel.name = i == 0 ? "front" : "back";
+    panel.outline.resize(4, 2);
+    panel.outline << -0.3, 0.0, 0.3, 0.0, 0.3, 0.3, -0.3, 0.3;
+    panel.placement.pose =
+        Eigen::Translation3d(0, 0.25, 0) * Eigen::AngleAxisd(M_PI * i, Eigen::Vector3d::UnitY());
+    panel.placement.wrap_radius = 0.2;
+    p.panels.push_back(panel);
+  }
+  vt::Seam right, left, top;
+  right.a = {0, 1, 2};  // front's +x side, hem to top ...
+  right.b = {1, 0, 3};  // ... meets the back's side on +x
+  left.a = {0, 0, 3};
+  left.b = {1, 1, 2};
+  top.a = {0, 2, 3};  // front's top edge from +x to -x ...
+  top.b = {1, 3, 2};  // ... meets the back's top edge from +x to -x
+  p.seams = {right, left, top};
+  return p;
+}
+
+pcl_msgs::PolygonMesh toMsg(const vt::TriMesh& mesh, const std::string& frame) {
+  std_msgs::Header h;
+  h.frame_id = frame;
+  h.stamp = ros::Time::now();
+  pcl_msgs::PolygonMesh msg;
+  rc::toMsg(mesh, h, msg);
+  return msg;
+}
+
+vt::GarmentPatternMsg patternMsg(const vt::GarmentPattern& p, const std::string& frame) {
+  std_msgs::Header h;
+  h.frame_id = frame;
+  return rc::toMsg(p, h);
+}
+
+Drape::Request request(const pcl_msgs::PolygonMesh& body, const vt::GarmentPatternMsg& pattern) {
+  Drape::Request req;
+  req.body = body;
+  req.pattern = pattern;
+  req.spacing = kSpacing;
+  return req;
+}
+
+// Calls the service; gtest failures when it is not there or the call itself fails.
+Drape::Response call(const Drape::Request& req) {
+  Drape srv;
+  srv.request = req;
+  EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(30))) << kService << " never came up";
+  EXPECT_TRUE(ros::service::call(kService, srv)) << "the call itself failed (node died?)";
+  return srv.response;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+vt::TriMesh returnedGarment(const Drape::Response& res) {
+  vt::TriMesh m;
+  std::string error;
+  EXPECT_TRUE(rc::fromMsg(res.garment, m, error)) << error;
+  return m;
+}
+
+// The bag is sewn, settled on the cap, and crosses nothing (by the independent referee).
+void expectDraped(const Drape::Response& res) {
+  ASSERT_TRUE(res.success) << res.message;
+  EXPECT_TRUE(res.report.converged) << res.report.message;
+  EXPECT_GT(res.report.iterations, 0u);
+  EXPECT_GT(res.report.sew_iterations, 0u);
+  EXPECT_EQ(res.report.seams_total, 3u);
+  EXPECT_EQ(res.report.seams_open, 0u);
+  EXPECT_EQ(res.report.collision_mode, "image");
+  EXPECT_GT(res.report.map_size, 0u);
+  EXPECT_GT(res.report.dt, 0.0);
+  EXPECT_LE(res.report.dt, res.report.dt_bound);
+  EXPECT_TRUE(res.report.resolver_run);
+  EXPECT_TRUE(res.report.resolver.converged) << res.report.resolver.reason;
+  EXPECT_EQ(res.report.penetrating_after, 0u);
+  EXPECT_EQ(res.garment.header.frame_id, "body");
+  const vt::TriMesh g = returnedGarment(res);
+  EXPECT_EQ(static_cast<std::size_t>(g.numVertices()), res.report.vertices);
+  EXPECT_EQ(static_cast<std::size_t>(g.numFaces()), res.report.triangles);
+  EXPECT_GT(g.numFaces(), 500);
+  const double top = g.V.col(1).maxCoeff();
+  EXPECT_GT(top, 0.45) << "the bag should rest on the cap (top of the capsule at y = 0.45)";
+  EXPECT_LT(top, 0.50);
+  const vt::ReferenceCounts ref = vt::referenceCounts(capsule(), g);
+  EXPECT_EQ(ref.garment_edge_crossings, 0u);
+  EXPECT_EQ(ref.body_edge_crossings, 0u);
+  EXPECT_EQ(ref.vertices_inside, 0u) << "deepest " << ref.max_depth << " m";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Must run first: nothing has been published on ~body_mesh yet.
+TEST(DrapeService, EmptyBodyWithoutTopicDataFails) {
+  const Drape::Response res = call(request(pcl_msgs::PolygonMesh(), patternMsg(bag(), "body")));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "no body")) << res.message;
+  EXPECT_TRUE(contains(res.message, "body_mesh")) << res.message;
+  EXPECT_TRUE(res.garment.polygons.empty());
+}
+
+TEST(DrapeService, DrapesTheBagOnTheCapsuleAndPublishesMarkers) {
+  const Drape::Response res = call(request(toMsg(capsule(), "body"), patternMsg(bag(), "body")));
+  expectDraped(res);
+  EXPECT_TRUE(contains(res.message, "depth maps rendered")) << res.message;
+  const vt::TriMesh g = returnedGarment(res);
+
+  // Latched markers: the body and the draped garment.
+  std::mutex m;
+  visualization_msgs::MarkerArray last;
+  bool got = false;
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe<visualization_msgs::MarkerArray>(
+      "/tryon_node/markers", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& a) {
+        std::lock_guard<std::mutex> lock(m);
+        last = *a;
+        got = true;
+      });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
+  while (ros::WallTime::now() < deadline) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (got) break;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_TRUE(got) << "no MarkerArray on /tryon_node/markers within 10 s";
+  const visualization_msgs::Marker* body = nullptr;
+  const visualization_msgs::Marker* garment = nullptr;
+  for (const auto& mk : last.markers) {
+    if (mk.ns == "body" && mk.id == 0) body = &mk;
+    if (mk.ns == "garment" && mk.id == 1) garment = &mk;
+  }
+  ASSERT_NE(body, nullptr);
+  ASSERT_NE(garment, nullptr);
+  EXPECT_EQ(garment->action, visualization_msgs::Marker::ADD);
+  EXPECT_EQ(garment->header.frame_id, "body");
+  EXPECT_EQ(body->points.size(), 3u * static_cast<std::size_t>(capsule().numFaces()));
+  ASSERT_EQ(garment->points.size(), 3u * static_cast<std::size_t>(g.numFaces()));
+  const auto& p = garment->points[0];
+  EXPECT_LT((Eigen::Vector3d(p.x, p.y, p.z) - Eigen::Vector3d(g.V.row(g.F(0, 0)).transpose())).norm(), 1e-5);
+}
+
+TEST(DrapeService, DtAboveTheBoundFailsAndTheNodeKeepsServingFromTheCachedMaps) {
+  Drape::Request req = request(toMsg(capsule(), "body"), patternMsg(bag(), "body"));
+  req.dt = 0.5;  // the bound is about 2 ms at this spacing
+  Drape::Response res = call(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "bound")) << res.message;
+  EXPECT_TRUE(contains(res.message, "0.5")) << res.message;
+  EXPECT_TRUE(res.garment.polygons.empty());
+  EXPECT_GT(res.report.dt_bound, 0.0);
+  EXPECT_LT(res.report.dt_bound, 0.5);
+
+  // The next request is served; the same body was draped before, so its depth maps come from the
+  // cache inside the node's Body (Body::depthMapRenders() did not grow).
+  req.dt = 0;
+  res = call(req);
+  expectDraped(res);
+  EXPECT_TRUE(contains(res.message, "depth maps reused")) << res.message;
+
+  // Request values override the parameters; an invalid one is refused by the core's check.
+  req.max_iterations = 30;
+  req.skip_resolve = true;
+  res = call(req);
+  EXPECT_TRUE(res.success) << res.message;
+  EXPECT_FALSE(res.report.converged);
+  EXPECT_EQ(res.report.iterations, 30u);
+  EXPECT_FALSE(res.report.resolver_run);
+  req = request(toMsg(capsule(), "body"), patternMsg(bag(), "body"));
+  req.spacing = -0.03;
+  res = call(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "spacing")) << res.message;
+  req.spacing = kSpacing;
+  req.collision_mode = "mesh";
+  res = call(req);
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "collision_mode 'mesh'")) << res.message;
+}
+
+TEST(DrapeService, BadPatternsFailWithAReason) {
+  vt::GarmentPatternMsg pattern = patternMsg(bag(), "body");
+  pattern.panels[1].outline_u.push_back(0.1);
+  Drape::Response res = call(request(toMsg(capsule(), "body"), pattern));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "panel 'back' (index 1)")) << res.message;
+  EXPECT_TRUE(contains(res.message, "outline_v")) << res.message;
+
+  pattern = patternMsg(bag(), "body");
+  pattern.panels[0].pose.orientation = geometry_msgs::Quaternion();  // all zero
+  res = call(request(toMsg(capsule(), "body"), pattern));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "panel 'front' (index 0)")) << res.message;
+  EXPECT_TRUE(contains(res.message, "orientation")) << res.message;
+
+  pattern = patternMsg(bag(), "body");
+  pattern.seams[2].b_to = 7;  // no such outline point
+  res = call(request(toMsg(capsule(), "body"), pattern));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "seam 2")) << res.message;
+}
+
+TEST(DrapeService, PatternInAnotherFrameIsTransformedIntoTheBodyFrame) {
+  // pattern_frame: the body frame moved by (1, 0, 0.5) and turned 90 degrees about y.
+  const Eigen::Isometry3d bodyFromPattern =
+      Eigen::Translation3d(1.0, 0, 0.5) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = "body";
+  t.child_frame_id = "pattern_frame";
+  t.transform.translation.x = 1.0;
+  t.transform.translation.z = 0.5;
+  const Eigen::Quaterniond q(bodyFromPattern.rotation());
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  broadcaster.sendTransform(t);
+
+  // The same bag, with its placements expressed in pattern_frame.
+  vt::GarmentPattern p = bag();
+  for (vt::Panel& panel : p.panels) panel.placement.pose = bodyFromPattern.inverse() * panel.placement.pose;
+
+  Drape::Response res;
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
+  do {  // the node's tf listener may need a moment for the static transform
+    res = call(request(toMsg(capsule(), "body"), patternMsg(p, "pattern_frame")));
+    if (!contains(res.message, "no transform")) break;
+    ros::WallDuration(0.2).sleep();
+  } while (ros::WallTime::now() < deadline);
+  expectDraped(res);  // only true when the bag landed on the capsule
+
+  res = call(request(toMsg(capsule(), "body"), patternMsg(p, "no_such_frame")));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "pattern's frame 'no_such_frame'")) << res.message;
+  EXPECT_TRUE(contains(res.message, "'body'")) << res.message;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "drape_service_test");
+  ros::NodeHandle nh;  // starts the node; kept alive for the whole run
+  ros::AsyncSpinner spinner(1);  // subscriptions (markers) are served in the background
+  spinner.start();
+  const int result = RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
