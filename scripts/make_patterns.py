@@ -17,7 +17,8 @@ HM08 = dict(
     crotch_y=-0.09, knee_y=-0.42, ankle_y=-0.72,
     chest_rx=0.135, chest_rz=0.098, waist_rx=0.124, waist_rz=0.090, hip_rx=0.176, hip_rz=0.114,
     shoulder_x=0.17, neck_rx=0.06,
-    leg_x=0.11, leg_z=0.03, thigh_r=0.085, ankle_r=0.045,
+    leg_x=0.135, leg_z=0.03, thigh_r=0.085, ankle_r=0.05,
+    hip_joint=(0.09, -0.02, 0.03), ankle=(0.19, -0.72, 0.01),
     shoulder_joint=(0.19, 0.45, 0.04), elbow=(0.36, 0.29, 0.08), arm_r=0.045,
 )
 
@@ -31,6 +32,7 @@ PROCEDURAL = dict(
     chest_rx=0.166, chest_rz=0.110, waist_rx=0.138, waist_rz=0.094, hip_rx=0.182, hip_rz=0.113,
     shoulder_x=0.15, neck_rx=0.056,
     leg_x=0.105, leg_z=0.0, thigh_r=0.088, ankle_r=0.045,
+    hip_joint=(0.094, 0.875, -0.004), ankle=(0.128, 0.08, -0.022),
     shoulder_joint=(0.178, 1.385, -0.012), elbow=(0.38, 1.183, -0.012), arm_r=0.05,
 )
 
@@ -212,31 +214,43 @@ def tshirt(L):
 def trousers(L):
     y0 = L["ankle_y"] + 0.03
     H = L["waist_y"] - y0
+    h_hip = L["hip_y"] - y0
     hc = L["crotch_y"] - y0 - 0.03
     w_ank = math.pi * (L["ankle_r"] + 0.03)        # half the hem circumference
-    quarter = 0.25 * perimeter(L["hip_rx"], L["hip_rz"]) * 1.1
-    w_out = 0.55 * quarter                          # from the leg's axis to the outer side at the waist
-    w_in = 0.45 * quarter                           # to the centre line at the waist
-    w_cr = w_in + 0.05                              # crotch point
-    right = [(-w_ank / 2, 0), (w_ank / 2, 0), (w_out, H), (-w_in, H), (-w_cr, hc)]   # outer side at +u
-    left = mirror(right)                           # outer side at -u: points hem-out, hem-in, crotch, centre, waist-out
+    quarter_hip = 0.25 * perimeter(L["hip_rx"], L["hip_rz"]) * 1.1
+    quarter_waist = 0.25 * perimeter(L["waist_rx"], L["waist_rz"]) * 1.15  # holds above the hips
+    w_out_hip, w_in_hip = 0.55 * quarter_hip, 0.45 * quarter_hip
+    w_out_waist, w_in_waist = 0.55 * quarter_waist, 0.45 * quarter_waist
+    w_cr = w_in_hip + 0.05                          # crotch point
+    # Outer side at +u: 0 hem-in, 1 hem-out, 2 hip-out, 3 waist-out, 4 centre (waist), 5 crotch.
+    right = [(-w_ank / 2, 0), (w_ank / 2, 0), (w_out_hip, h_hip), (w_out_waist, H), (-w_in_waist, H), (-w_cr, hc)]
+    # Mirrored (outer side at -u), order reversed: 0 crotch, 1 centre, 2 waist-out, 3 hip-out,
+    # 4 hem-out, 5 hem-in.
+    left = mirror(right)
     R = L["thigh_r"] + 0.05
     panels = []
     for leg, sx in (("right", 1.0), ("left", -1.0)):
-        t = (sx * L["leg_x"] + L["axis_x"], y0, L["leg_z"])
+        # Each leg's panels wrap round the leg's own axis, from the ankle up through the hip joint
+        # (legs apart in the pose lean outwards).
+        hip = (sx * L["hip_joint"][0], L["hip_joint"][1], L["hip_joint"][2])
+        ank = (sx * L["ankle"][0], L["ankle"][1], L["ankle"][2])
+        axis = unit(sub(hip, ank))
+        front = (0.0, 0.0, 1.0)
+        zc = unit(sub(front, tuple(axis[i] * sum(front[j] * axis[j] for j in range(3)) for i in range(3))))
+        xc = cross(axis, zc)
+        t = tuple(ank[i] + axis[i] * (y0 - L["ankle_y"]) / axis[1] for i in range(3))
+        t = (t[0] + L["axis_x"], t[1], t[2])
+        back_axes = (tuple(-c for c in xc), axis, tuple(-c for c in zc))  # half a turn about the leg
         # Front panels face +z; back panels are turned half a turn, which mirrors u in the world.
-        panels.append(panel("front_" + leg, right if sx > 0 else left, t, wrap=R))
-        panels.append(panel("back_" + leg, left if sx > 0 else right, t, BACK, wrap=R))
-    # Indices: `right` outline: 0 hem-in, 1 hem-out, 2 waist-out, 3 centre, 4 crotch.
-    #          `left` outline (mirrored, order reversed): 0 crotch, 1 centre, 2 waist-out,
-    #          3 hem-out, 4 hem-in.
+        panels.append(panel("front_" + leg, right if sx > 0 else left, t, rpy_from_axes(xc, axis, zc), wrap=R))
+        panels.append(panel("back_" + leg, left if sx > 0 else right, t, rpy_from_axes(*back_axes), wrap=R))
     seams = [
-        seam("front_right", 1, 2, "back_right", 3, 2, "right outseam, hem to waist"),
-        seam("front_right", 0, 4, "back_right", 4, 0, "right inseam, hem to crotch"),
-        seam("front_left", 3, 2, "back_left", 1, 2, "left outseam, hem to waist"),
-        seam("front_left", 4, 0, "back_left", 0, 4, "left inseam, hem to crotch"),
-        seam("front_right", 3, 4, "front_left", 1, 0, "centre front, waist to crotch"),
-        seam("back_right", 1, 0, "back_left", 3, 4, "centre back, waist to crotch"),
+        seam("front_right", 1, 3, "back_right", 4, 2, "right outseam, hem to waist"),
+        seam("front_right", 0, 5, "back_right", 5, 0, "right inseam, hem to crotch"),
+        seam("front_left", 4, 2, "back_left", 1, 3, "left outseam, hem to waist"),
+        seam("front_left", 5, 0, "back_left", 0, 5, "left inseam, hem to crotch"),
+        seam("front_right", 4, 5, "front_left", 1, 0, "centre front, waist to crotch"),
+        seam("back_right", 1, 0, "back_left", 4, 5, "centre back, waist to crotch"),
     ]
     return document("trousers", "Long trousers: a front and a back panel per leg, wrapped round the leg's axis,\n"
                     "sewn along the outseams, inseams and the centre front and back.\n"
