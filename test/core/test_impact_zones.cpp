@@ -168,6 +168,8 @@ TEST(ImpactZones, LargeZoneMeetsTheKktConditions) {
     const double slack = st[i].D + gradDot(st[i], sol) - d;
     EXPECT_GE(sol.lambda[i], 0);
     EXPECT_GE(slack, -1e-3 * d) << i;
-    if (sol.lambda[i] > 1e-6) EXPECT_LT(slack, 1e-3 * d) << "inactive stencil " << i << " has lambda " << sol.lambda[i];
+    if (sol.lambda[i] > 1e-6) {
+      EXPECT_LT(slack, 1e-3 * d) << "inactive stencil " << i << " has lambda " << sol.lambda[i];
+    }
   }
 }
