@@ -21,10 +21,12 @@ std::string num(double v) {
 }
 
 // Velocity response of every colliding node and quad midpoint; a node that gets several
-// responses gets their mean (sec. 6).
+// responses gets their mean (sec. 6). Templated on the (final) collider so the per-point test
+// inlines.
+template <class Collider>
 class CollisionResponse {
  public:
-  CollisionResponse(const BodyCollider& collider, const CollisionParams& p, bool quads,
+  CollisionResponse(const Collider& collider, const CollisionParams& p, bool quads,
                     const ClothState& cloth, double dt, double pushOut)
       : collider_(collider), p_(p), quads_(quads), cloth_(cloth), dt_(dt), push_out_(pushOut) {}
 
@@ -60,7 +62,7 @@ class CollisionResponse {
   }
 
  private:
-  const BodyCollider& collider_;
+  const Collider& collider_;
   CollisionParams p_;
   bool quads_;
   const ClothState& cloth_;
@@ -143,18 +145,24 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
   }
 
   // Collisions: maps or BVH, cached with the body.
-  std::unique_ptr<BodyCollider> collider;
+  std::unique_ptr<ImageSpaceCollider> imageSpace;
+  std::unique_ptr<ObjectSpaceCollider> objectSpace;
+  std::unique_ptr<CollisionResponse<ImageSpaceCollider>> imageResponse;
+  std::unique_ptr<CollisionResponse<ObjectSpaceCollider>> objectResponse;
   if (params.mode == CollisionMode::ImageSpace) {
     auto maps = body.depthMaps(params.collision);
     rep.map_size = std::max(maps->width(), maps->height());
-    collider = std::make_unique<ImageSpaceCollider>(maps);
+    imageSpace = std::make_unique<ImageSpaceCollider>(maps);
+    imageResponse = std::make_unique<CollisionResponse<ImageSpaceCollider>>(
+        *imageSpace, params.collision, params.quad_midpoints, cloth, rep.dt, params.push_out);
+    cloth.setVelocityHook([&](const MatrixX3d& x, MatrixX3d& v) { (*imageResponse)(x, v); });
   } else {
     body.bvh();
-    collider = std::make_unique<ObjectSpaceCollider>(body, params.collision.tol);
+    objectSpace = std::make_unique<ObjectSpaceCollider>(body, params.collision.tol);
+    objectResponse = std::make_unique<CollisionResponse<ObjectSpaceCollider>>(
+        *objectSpace, params.collision, params.quad_midpoints, cloth, rep.dt, params.push_out);
+    cloth.setVelocityHook([&](const MatrixX3d& x, MatrixX3d& v) { (*objectResponse)(x, v); });
   }
-  CollisionResponse response(*collider, params.collision, params.quad_midpoints, cloth, rep.dt,
-                             params.push_out);
-  cloth.setVelocityHook([&response](const MatrixX3d& x, MatrixX3d& v) { response(x, v); });
   const double weldTol = params.weld_tolerance > 0 ? params.weld_tolerance : 0.5 * params.spacing;
   rep.seconds_setup = since(tStart);
 

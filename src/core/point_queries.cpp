@@ -105,8 +105,8 @@ int countSegmentCrossings(const Body& body, const Eigen::Vector3d& p, const Eige
 
 bool pointInsideBody(const Body& body, const Eigen::Vector3d& p) {
   if (!body.closed()) return false;
-  Eigen::Vector3d lo, hi;
-  boundingBox(body.mesh(), lo, hi);
+  const Eigen::Vector3d& lo = body.boxMin();
+  const Eigen::Vector3d& hi = body.boxMax();
   if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return false;
   const double L = 4.0 * (hi - lo).norm() + 1.0;
   static const Eigen::Vector3d dirs[3] = {

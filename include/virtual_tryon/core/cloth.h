@@ -58,7 +58,7 @@ class ClothState {
 
   // One explicit Euler step with the velocity fix; `sewing` adds the seam springs. Returns false
   // when a position or velocity became non-finite or a node exceeded runaway_speed (the state is
-  // then left as it was before the step).
+  // then put back to the last finite checkpoint, at most 32 steps old).
   bool step(double dt, bool sewing);
 
   // Collision response hook: called between the velocity update and the position update.
@@ -108,7 +108,8 @@ class ClothState {
   ClothParams params_;
   double mass_ = 0;
   MatrixX3d x_, v_, f_;
-  MatrixX3d x_prev_, v_prev_;  // the state before the current step
+  MatrixX3d x_prev_, v_prev_;  // the last finite checkpoint (at most 32 steps old)
+  long steps_ = 0;
   std::vector<double> m_;
   std::vector<Spring> springs_;
   std::vector<double> k_;  // stiffness per spring

@@ -23,7 +23,7 @@ class BodyCollider {
   virtual bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const = 0;
 };
 
-class ImageSpaceCollider : public BodyCollider {
+class ImageSpaceCollider final : public BodyCollider {
  public:
   explicit ImageSpaceCollider(std::shared_ptr<const DepthMaps> maps) : maps_(std::move(maps)) {}
   bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const override {
@@ -37,7 +37,7 @@ class ImageSpaceCollider : public BodyCollider {
 
 // Nearest body point through FCL; p collides when its signed distance (by the nearest face's
 // normal) is below tol.
-class ObjectSpaceCollider : public BodyCollider {
+class ObjectSpaceCollider final : public BodyCollider {
  public:
   ObjectSpaceCollider(const Body& body, double tol) : body_(body), tol_(tol) {}
   bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth) const override;
