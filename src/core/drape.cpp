@@ -163,7 +163,7 @@ DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapePara
         *objectSpace, params.collision, params.quad_midpoints, cloth, rep.dt, params.push_out);
     cloth.setVelocityHook([&](const MatrixX3d& x, MatrixX3d& v) { (*objectResponse)(x, v); });
   }
-  const double weldTol = params.weld_tolerance > 0 ? params.weld_tolerance : 0.5 * params.spacing;
+  const double weldTol = params.weld_tolerance > 0 ? params.weld_tolerance : std::max(0.5 * params.spacing, 0.015);
   rep.seconds_setup = since(tStart);
 
   // Sew, weld, drape.

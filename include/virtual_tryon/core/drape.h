@@ -29,7 +29,7 @@ struct DrapeParams {
   double dt = 0;               // seconds; 0: dt_safety * the eq. 4 bound
   double dt_safety = 0.9;
   bool clamp_dt = false;       // a dt above the bound: refuse (false) or clamp with a warning (true)
-  double weld_tolerance = 0;   // metres; 0: half the spacing
+  double weld_tolerance = 0;   // metres; 0: half the spacing, at least 1.5 cm
   int max_sew_iterations = 4000;
   int max_iterations = 8000;   // sewing and draping together
   int min_drape_iterations = 40;
