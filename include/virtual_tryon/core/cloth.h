@@ -23,11 +23,11 @@ struct ClothParams {
   double k_structural = 10.0;   // N/m (soft: the velocity fix, not stiffness, stops stretching)
   double k_shear = 2.0;         // N/m
   double k_flexion = 1.0;       // N/m
-  double k_seam = 2.0;          // N/m: seam points pull each other with the constant force
+  double k_seam = 4.0;          // N/m: seam points pull each other with the constant force
   double seam_max_stretch = 0.05;  // k_seam * seam_max_stretch (N) until their seam is welded
-  double sewing_damping_rate = 4.0;  // 1/s, damping while any seam is open
+  double sewing_damping_rate = 6.0;  // 1/s, damping while any seam is open (when above damping_rate)
   bool gravity_while_sewing = false;  // off: panels do not slide down before they are closed
-  double damping_rate = 6;    // 1/s; C_vd = damping_rate * m
+  double damping_rate = 6.0;  // 1/s; C_vd = damping_rate * m (heavy: a quasi-static dressing)
   Eigen::Vector3d gravity{0, -9.81, 0};
   double stretch_threshold = 0.10;  // super-elasticity threshold, 0.01 .. 0.15
   int velocity_fix_passes = 3;      // Gauss-Seidel passes of the velocity fix per step; 0: off
