@@ -84,7 +84,9 @@ void ClothState::computeForces() {
     f[3 * i + 1] = m * (gy - c * v[3 * i + 1]);
     f[3 * i + 2] = m * (gz - c * v[3 * i + 2]);
   }
-  len_.resize(springs_.size());
+  // The velocity fix needs the over-stretched springs of these positions: note them on the way.
+  over_.clear();
+  const double limit = 1.0 + params_.stretch_threshold;
   const std::size_t ns = springs_.size();
   for (std::size_t s = 0; s < ns; ++s) {
     const Spring& sp = springs_[s];
@@ -92,8 +94,8 @@ void ClothState::computeForces() {
     const double* xb = x + 3 * sp.b;
     const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    len_[s] = len;
     if (!(len > 0)) continue;
+    if (len > limit * sp.rest) over_.push_back({static_cast<int>(s), Eigen::RowVector3d(dx / len, dy / len, dz / len)});
     const double k = k_[s] * (len - sp.rest) / len;
     double* fa = f + 3 * sp.a;
     double* fb = f + 3 * sp.b;
@@ -104,27 +106,28 @@ void ClothState::computeForces() {
     fb[1] -= k * dy;
     fb[2] -= k * dz;
   }
+  over_valid_ = true;
 }
 
 void ClothState::fixVelocities() {
   fixed_springs_ = 0;
   if (params_.velocity_fix_passes <= 0) return;
-  const double limit = 1.0 + params_.stretch_threshold;
-  // Spring lengths of the current positions (computeForces leaves them in len_).
-  if (len_.size() != springs_.size()) {
-    len_.resize(springs_.size());
-    for (std::size_t s = 0; s < springs_.size(); ++s)
-      len_[s] = (x_.row(springs_[s].b) - x_.row(springs_[s].a)).norm();
+  // Over-stretched springs of the current positions (computeForces notes them).
+  if (!over_valid_) {
+    over_.clear();
+    const double limit = 1.0 + params_.stretch_threshold;
+    for (std::size_t s = 0; s < springs_.size(); ++s) {
+      const Eigen::RowVector3d d = x_.row(springs_[s].b) - x_.row(springs_[s].a);
+      const double len = d.norm();
+      if (len > 0 && len > limit * springs_[s].rest) over_.push_back({static_cast<int>(s), d / len});
+    }
+    over_valid_ = true;
   }
-  // Only over-stretched springs matter; collect them once.
-  over_.clear();
-  for (std::size_t s = 0; s < springs_.size(); ++s)
-    if (len_[s] > limit * springs_[s].rest && len_[s] > 0) over_.push_back(static_cast<int>(s));
   for (int pass = 0; pass < params_.velocity_fix_passes; ++pass) {
     std::size_t acted = 0;
-    for (int s : over_) {
-      const Spring& sp = springs_[s];
-      const Eigen::RowVector3d u = (x_.row(sp.b) - x_.row(sp.a)) / len_[s];
+    for (const Stretched& o : over_) {
+      const Spring& sp = springs_[o.spring];
+      const Eigen::RowVector3d& u = o.unit;
       const double va = v_.row(sp.a).dot(u), vb = v_.row(sp.b).dot(u);
       bool changed = false;
       if (va < 0) {  // a moves away from b
@@ -144,9 +147,9 @@ void ClothState::fixVelocities() {
   // stretching rate again. A node still stretching one of its over-long springs stops (a zero
   // velocity stretches nothing and touches no other node), so afterwards no over-stretched spring
   // gets longer, exactly.
-  for (int s : over_) {
-    const Spring& sp = springs_[s];
-    const Eigen::RowVector3d u = (x_.row(sp.b) - x_.row(sp.a)) / len_[s];
+  for (const Stretched& o : over_) {
+    const Spring& sp = springs_[o.spring];
+    const Eigen::RowVector3d& u = o.unit;
     if (v_.row(sp.a).dot(u) < 0) v_.row(sp.a).setZero();
     if (v_.row(sp.b).dot(u) > 0) v_.row(sp.b).setZero();
   }
@@ -192,7 +195,7 @@ bool ClothState::step(double dt, bool sewing) {
   fixVelocities();
   if (hook_) hook_(x_, v_);
   x_ += dt * v_;
-  len_.clear();  // lengths are stale now
+  over_valid_ = false;  // the positions moved
   const double limit2 = params_.runaway_speed * params_.runaway_speed;
   bool ok = true;
   {
@@ -325,7 +328,7 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
   m_ = mass;
   springs_ = springs;
   k_ = k;
-  len_.clear();
+  over_valid_ = false;
   F_ = F;
 }
 

@@ -113,8 +113,12 @@ class ClothState {
   std::vector<double> m_;
   std::vector<Spring> springs_;
   std::vector<double> k_;  // stiffness per spring
-  std::vector<double> len_;  // spring lengths at the current positions (empty: stale)
-  std::vector<int> over_;    // over-stretched springs of the current step
+  struct Stretched {
+    int spring;
+    Eigen::RowVector3d unit;  // from end a to end b
+  };
+  std::vector<Stretched> over_;  // over-stretched springs at the current positions
+  bool over_valid_ = false;
   std::vector<SeamPair> seams_;  // open seam pairs
   std::vector<char> seam_welded_;  // per pattern seam
   std::vector<std::array<int, 4>> quads_;
