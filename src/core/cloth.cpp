@@ -38,9 +38,11 @@ ClothState::ClothState(const ClothMesh& mesh, const ClothParams& params)
   m_.assign(static_cast<std::size_t>(n), mass_);
   k_.resize(springs_.size());
   for (std::size_t i = 0; i < springs_.size(); ++i) k_[i] = stiffnessOf(params, springs_[i].type);
-  int nSeams = 0;
+  int nSeams = static_cast<int>(mesh.seam_stage.size());
   for (const auto& s : seams_) nSeams = std::max(nSeams, s.seam + 1);
   seam_welded_.assign(static_cast<std::size_t>(nSeams), 0);
+  seam_stage_ = mesh.seam_stage;
+  seam_stage_.resize(static_cast<std::size_t>(nSeams), 0);
 }
 
 double ClothState::maxStiffness(bool withSeams) const {
@@ -170,7 +172,11 @@ bool ClothState::step(double dt, bool sewing) {
     const double extra = params_.sewing_damping_rate - params_.damping_rate;
     if (extra > 0)
       for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= (extra * m_[i]) * v_.row(i);
+    // Only the lowest stage with an open seam pulls (Seam::stage).
+    int stage = std::numeric_limits<int>::max();
+    for (const SeamPair& s : seams_) stage = std::min(stage, seam_stage_[s.seam]);
     for (const SeamPair& s : seams_) {
+      if (seam_stage_[s.seam] != stage) continue;
       const Eigen::RowVector3d d = x_.row(s.b) - x_.row(s.a);
       const double len = d.norm();
       // A constant pull of k_seam * seam_max_stretch: strong enough to finish closing a seam

@@ -280,6 +280,7 @@ bool meshPattern(const GarmentPattern& pattern, double spacing, ClothMesh& cloth
       sp.seam = static_cast<int>(k);
       cloth.seam_pairs.push_back(sp);
     }
+    cloth.seam_stage.push_back(pattern.seams[k].stage);
     const std::size_t made = cloth.seam_pairs.size() - before;
     if (made < 2) {
       error = "seam " + std::to_string(k) + ": only " + std::to_string(made) + " distinct node pair" +

@@ -231,8 +231,12 @@ class Reader {
       for (std::size_t k = 0; k < seams.size(); ++k) {
         const std::string sp = "seams[" + std::to_string(k) + "]";
         Seam s;
-        if (!checkMap(seams[k], sp, {"a", "b"}, {"a", "b"})) return false;
+        if (!checkMap(seams[k], sp, {"a", "b", "stage"}, {"a", "b"})) return false;
         if (!stretch(seams[k]["a"], sp + ".a", out, s.a) || !stretch(seams[k]["b"], sp + ".b", out, s.b)) return false;
+        if (seams[k]["stage"]) {
+          if (!integer(seams[k]["stage"], sp + ".stage", "a sewing stage (a whole number >= 0)", s.stage)) return false;
+          if (s.stage < 0) return fail(sp + ".stage", seams[k]["stage"], "a sewing stage must be >= 0");
+        }
         out.seams.push_back(s);
       }
     }
@@ -392,7 +396,10 @@ std::string patternToYaml(const GarmentPattern& pattern) {
     out << "seams: []\n";
   } else {
     out << "seams:\n";
-    for (const Seam& s : pattern.seams) out << "  - a: " << ref(s.a) << "\n    b: " << ref(s.b) << "\n";
+    for (const Seam& s : pattern.seams) {
+      out << "  - a: " << ref(s.a) << "\n    b: " << ref(s.b) << "\n";
+      if (s.stage != 0) out << "    stage: " << s.stage << "\n";
+    }
   }
   return out.str();
 }

@@ -107,7 +107,7 @@ bool fromMsg(const GarmentPatternMsg& msg, GarmentPattern& pattern, std::string&
         !toIndex(sm.a_to, "a_to", i, s.a.to, error) ||
         !toIndex(sm.panel_b, "panel_b", i, s.b.panel, error) ||
         !toIndex(sm.b_from, "b_from", i, s.b.from, error) ||
-        !toIndex(sm.b_to, "b_to", i, s.b.to, error))
+        !toIndex(sm.b_to, "b_to", i, s.b.to, error) || !toIndex(sm.stage, "stage", i, s.stage, error))
       return false;
     out.seams.push_back(s);
   }
@@ -142,6 +142,7 @@ GarmentPatternMsg toMsg(const GarmentPattern& pattern, const std_msgs::Header& h
     sm.panel_b = fromIndex(s.b.panel);
     sm.b_from = fromIndex(s.b.from);
     sm.b_to = fromIndex(s.b.to);
+    sm.stage = fromIndex(s.stage);
     msg.seams.push_back(sm);
   }
   return msg;

@@ -234,3 +234,48 @@ TEST(Cloth, AStepAboveTheBoundBlowsUpAndIsCaught) {
   for (int i = 0; i < 2000; ++i) ASSERT_TRUE(ok.step(dt0, false)) << i;
   EXPECT_LT(ok.maxSpeed(), 10.0);
 }
+
+TEST(Cloth, LaterStagesPullOnlyOnceEarlierSeamsAreWelded) {
+  // Three 3x3 patches in a row, 10 cm apart; seam 0 (stage 0) joins the first two, seam 1
+  // (stage 1) the second and third. The stage-1 seam must not move before seam 0 is welded.
+  ClothMesh a = gridCloth(3, 0.05);
+  const int n = static_cast<int>(a.X.rows());
+  ClothMesh mesh = a;
+  mesh.X.resize(3 * n, 3);
+  mesh.X << a.X, a.X, a.X;
+  mesh.X.middleRows(n, n).col(0).array() += 0.2;
+  mesh.X.bottomRows(n).col(0).array() += 0.4;
+  mesh.UV.resize(3 * n, 2);
+  mesh.UV << a.UV, a.UV, a.UV;
+  mesh.panel.assign(static_cast<std::size_t>(3 * n), 0);
+  for (int copy = 1; copy < 3; ++copy)
+    for (const Spring& s : a.springs) mesh.springs.push_back({s.a + copy * n, s.b + copy * n, s.rest, s.type});
+  mesh.quads.clear();
+  mesh.F.resize(0, 3);
+  for (int j = 0; j < 3; ++j) {
+    mesh.seam_pairs.push_back({j * 3 + 2, n + j * 3 + 0, 0});
+    mesh.seam_pairs.push_back({n + j * 3 + 2, 2 * n + j * 3 + 0, 1});
+  }
+  mesh.seam_stage = {0, 1};
+  ClothParams p;
+  p.gravity.setZero();
+  ClothState cloth(mesh, p);
+  const double dt = 0.9 * cloth.stableTimeStep();
+  const Eigen::RowVector3d third0 = cloth.positions().bottomRows(n).colwise().mean();
+  int it = 0;
+  while (cloth.openSeams() == 2 && it < 5000) {
+    ASSERT_TRUE(cloth.step(dt, true));
+    cloth.weldClosedSeams(0.005);
+    ++it;
+  }
+  ASSERT_EQ(cloth.openSeams(), 1) << "stage 0 never welded";
+  // Until then the third patch, held only by the stage-1 seam, has not moved.
+  EXPECT_NEAR((cloth.positions().bottomRows(n).colwise().mean() - third0).norm(), 0.0, 1e-12);
+  while (cloth.openSeams() > 0 && it < 10000) {
+    ASSERT_TRUE(cloth.step(dt, true));
+    cloth.weldClosedSeams(0.005);
+    ++it;
+  }
+  EXPECT_EQ(cloth.openSeams(), 0);
+  EXPECT_EQ(cloth.mesh().V.rows(), 3 * n - 6);
+}

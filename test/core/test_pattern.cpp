@@ -838,3 +838,26 @@ TEST(PatternYaml, ExampleFiles) {
   EXPECT_NEAR(c.X.col(1).minCoeff(), 1.9, 1e-12);
   EXPECT_NEAR(c.X.col(1).maxCoeff(), 1.9, 1e-12);
 }
+
+TEST(PatternYaml, SeamStages) {
+  const std::string base(kTwoPanelYaml);
+  GarmentPattern p;
+  std::string error;
+  ASSERT_TRUE(parsePatternYaml(base, p, error)) << error;
+  EXPECT_EQ(p.seams[0].stage, 0);  // absent: stage 0
+  const std::string staged = base + "    stage: 2\n";
+  ASSERT_TRUE(parsePatternYaml(staged, p, error)) << error;
+  EXPECT_EQ(p.seams[1].stage, 2);
+  GarmentPattern back;
+  ASSERT_TRUE(parsePatternYaml(patternToYaml(p), back, error)) << error;
+  EXPECT_EQ(back.seams[1].stage, 2);
+  EXPECT_EQ(back.seams[0].stage, 0);
+  EXPECT_FALSE(parsePatternYaml(base + "    stage: -1\n", p, error));
+  EXPECT_NE(error.find("seams[1].stage"), std::string::npos) << error;
+  EXPECT_FALSE(parsePatternYaml(base + "    stage: first\n", p, error));
+  EXPECT_NE(error.find("seams[1].stage"), std::string::npos) << error;
+  ClothMesh cloth;
+  ASSERT_TRUE(parsePatternYaml(staged, p, error));
+  ASSERT_TRUE(meshPattern(p, 0.05, cloth, error)) << error;
+  EXPECT_EQ(cloth.seam_stage, (std::vector<int>{0, 2}));
+}

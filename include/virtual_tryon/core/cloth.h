@@ -121,6 +121,7 @@ class ClothState {
   bool over_valid_ = false;
   std::vector<SeamPair> seams_;  // open seam pairs
   std::vector<char> seam_welded_;  // per pattern seam
+  std::vector<int> seam_stage_;    // per pattern seam
   std::vector<std::array<int, 4>> quads_;
   MatrixX3i F_;
   VelocityHook hook_;

@@ -53,6 +53,9 @@ struct OutlineStretch {
 // lie on the same panel (a tube from one panel, a dart).
 struct Seam {
   OutlineStretch a, b;
+  // Sewing order: a seam pulls only once every seam of a lower stage is welded (0 first). Lets a
+  // garment close its body before sleeves are set into the armholes.
+  int stage = 0;
 };
 
 struct GarmentPattern {
@@ -121,6 +124,7 @@ struct ClothMesh {
   std::vector<std::array<int, 4>> quads; // grid quads (corners in order round the quad)
   std::vector<Spring> springs;           // structural, shear and flexion
   std::vector<SeamPair> seam_pairs;
+  std::vector<int> seam_stage;           // per pattern seam, its Seam::stage
   double spacing = 0;                    // grid spacing used, metres
 };
 
