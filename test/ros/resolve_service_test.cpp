@@ -7,6 +7,8 @@
 #include "virtual_tryon/core/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 
+#include "marker_wait.h"
+
 #include <gtest/gtest.h>
 
 #include <geometry_msgs/TransformStamped.h>
@@ -147,33 +149,11 @@ TEST(TryonNode, PublishesBodyAndGarmentMarkers) {
   ASSERT_TRUE(res.success) << res.message;
   const vt::TriMesh out = returnedGarment(res);
 
-  std::mutex m;
   visualization_msgs::MarkerArray last;
-  bool got = false;
-  ros::NodeHandle nh;
-  ros::Subscriber sub = nh.subscribe<visualization_msgs::MarkerArray>(
-      "/tryon_node/markers", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& a) {
-        std::lock_guard<std::mutex> lock(m);
-        last = *a;
-        got = true;
-      });
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
-  while (ros::WallTime::now() < deadline) {
-    {
-      std::lock_guard<std::mutex> lock(m);
-      if (got) break;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  std::lock_guard<std::mutex> lock(m);
-  ASSERT_TRUE(got) << "no MarkerArray on /tryon_node/markers within 10 s";
-
-  const visualization_msgs::Marker* body = nullptr;
-  const visualization_msgs::Marker* garment = nullptr;
-  for (const auto& mk : last.markers) {
-    if (mk.ns == "body" && mk.id == 0) body = &mk;
-    if (mk.ns == "garment" && mk.id == 1) garment = &mk;
-  }
+  ASSERT_TRUE(virtual_tryon_test::waitForMarkers("/tryon_node/markers", 10.0, last))
+      << "no MarkerArray on /tryon_node/markers within 10 s";
+  const visualization_msgs::Marker* body = virtual_tryon_test::findMarker(last, "body", 0);
+  const visualization_msgs::Marker* garment = virtual_tryon_test::findMarker(last, "garment", 1);
   ASSERT_NE(body, nullptr);
   ASSERT_NE(garment, nullptr);
   for (const auto* mk : {body, garment}) {
