@@ -25,7 +25,7 @@ struct Case {
   const char* paper;  // the paper's vertex count for this garment
 };
 
-vt::DrapeReport run(const vt::Body& body, const vt::GarmentPattern& p, double spacing, vt::CollisionMode mode,
+vt::DrapeResult run(const vt::Body& body, const vt::Pattern& p, double spacing, vt::CollisionMode mode,
                     int maxIterations, bool resolve, vt::TriMesh& out) {
   vt::DrapeParams params;
   params.spacing = spacing;
@@ -45,14 +45,14 @@ void proceduralTable(const std::string& dir) {
   std::printf("| garment | vertices | iterations (sewing) | total s | ms/iteration | seams open | penetrating before -> after resolve | independent crossings / inside after | strain max / mean | converged |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const char* g : {"skirt", "trousers", "sleeveless_shirt", "tshirt", "dress"}) {
-    vt::GarmentPattern pattern;
+    vt::Pattern pattern;
     std::string err;
     if (!vt::readPatternYaml(dir + "/" + g + ".yaml", pattern, err)) {
       std::printf("| %s | pattern missing: %s |\n", g, err.c_str());
       continue;
     }
     vt::TriMesh out;
-    const vt::DrapeReport r = run(body, pattern, 0.03, vt::CollisionMode::ImageSpace, 8000, true, out);
+    const vt::DrapeResult r = run(body, pattern, 0.03, vt::CollisionMode::ImageSpace, 8000, true, out);
     const vt::ReferenceCounts c = vt::referenceCounts(mesh, out);
     std::printf("| %s | %zu | %d (%d) | %.3f | %.3f | %d | %zu -> %zu | %zu / %zu | %.3f / %.4f | %s |\n", g, r.vertices,
                 r.iterations, r.sew_iterations, r.seconds_total, 1e3 * r.seconds_per_iteration, r.seams_open,
@@ -86,21 +86,21 @@ int main(int argc, char** argv) {
   std::printf("| garment | spacing m | vertices (paper) | iterations (sewing) | total s | ms/iteration IS | ms/iteration OS | OS/IS | ms/iteration IS, body 4x faces | penetrating before -> after resolve | strain max / mean | seam gap m | converged |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
-    vt::GarmentPattern pattern;
+    vt::Pattern pattern;
     if (!vt::readPatternYaml(patterns + "/" + c.garment + ".yaml", pattern, err)) {
       std::printf("| %s | pattern missing: %s |\n", c.garment, err.c_str());
       continue;
     }
     vt::TriMesh out, tmp;
-    const vt::DrapeReport is = run(body, pattern, c.spacing, vt::CollisionMode::ImageSpace, 8000, true, out);
+    const vt::DrapeResult is = run(body, pattern, c.spacing, vt::CollisionMode::ImageSpace, 8000, true, out);
     if (!is.success) {
       std::printf("| %s | %.4f | failed: %s |\n", c.garment, c.spacing, is.message.c_str());
       continue;
     }
     // Object space and the 4x body: per-iteration cost over a bounded run.
     const int probe = std::min(300, std::max(50, is.iterations));
-    const vt::DrapeReport os = run(body, pattern, c.spacing, vt::CollisionMode::ObjectSpace, probe, false, tmp);
-    const vt::DrapeReport is4 = run(body4, pattern, c.spacing, vt::CollisionMode::ImageSpace, probe, false, tmp);
+    const vt::DrapeResult os = run(body, pattern, c.spacing, vt::CollisionMode::ObjectSpace, probe, false, tmp);
+    const vt::DrapeResult is4 = run(body4, pattern, c.spacing, vt::CollisionMode::ImageSpace, probe, false, tmp);
     std::printf("| %s | %.4f | %zu (%s) | %d (%d) | %.3f | %.3f | %.3f | %.1f | %.3f | %zu -> %zu | %.3f / %.4f | %.4f | %s |\n",
                 c.garment, c.spacing, is.vertices, c.paper, is.iterations, is.sew_iterations, is.seconds_total,
                 1e3 * is.seconds_per_iteration, 1e3 * os.seconds_per_iteration,
@@ -112,12 +112,12 @@ int main(int argc, char** argv) {
   // Time per iteration against cloth size (linear?) and body size (flat?).
   std::printf("\n## Time per iteration against cloth vertices (dress, image space, 200 iterations)\n\n");
   std::printf("| spacing m | vertices | ms/iteration | us/iteration/vertex | ms/iteration, body 4x faces |\n|---|---|---|---|---|\n");
-  vt::GarmentPattern dress;
+  vt::Pattern dress;
   if (vt::readPatternYaml(patterns + "/dress.yaml", dress, err)) {
     for (double s : {0.04, 0.03, 0.022, 0.0165, 0.012}) {
       vt::TriMesh tmp;
-      const vt::DrapeReport r = run(body, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
-      const vt::DrapeReport r4 = run(body4, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
+      const vt::DrapeResult r = run(body, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
+      const vt::DrapeResult r4 = run(body4, dress, s, vt::CollisionMode::ImageSpace, 200, false, tmp);
       if (!r.success) continue;
       std::printf("| %.4f | %zu | %.3f | %.3f | %.3f |\n", s, r.vertices, 1e3 * r.seconds_per_iteration,
                   1e6 * r.seconds_per_iteration / static_cast<double>(r.vertices), 1e3 * r4.seconds_per_iteration);

@@ -185,13 +185,13 @@ int drape(const std::map<std::string, std::string>& opt) {
   const std::string bad = vt::validateDrapeParams(p);
   if (!bad.empty()) throw std::invalid_argument(bad);
 
-  vt::GarmentPattern pattern;
+  vt::Pattern pattern;
   std::string err;
   if (!vt::readPatternYaml(patternPath, pattern, err)) throw std::invalid_argument(err);
   const vt::Body body(load(bodyPath, "body"));
   vt::TriMesh garment;
   auto last = std::chrono::steady_clock::now();
-  const vt::DrapeReport rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
+  const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
     const auto now = std::chrono::steady_clock::now();
     if (now - last >= std::chrono::seconds(2)) {
       last = now;

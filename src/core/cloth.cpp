@@ -172,7 +172,7 @@ bool ClothState::step(double dt, bool sewing) {
     const double extra = params_.sewing_damping_rate - params_.damping_rate;
     if (extra > 0)
       for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= (extra * m_[i]) * v_.row(i);
-    // Only the lowest stage with an open seam pulls (Seam::stage).
+    // Only the lowest stage with an open seam pulls (PatternSeam::stage).
     int stage = std::numeric_limits<int>::max();
     for (const SeamPair& s : seams_) stage = std::min(stage, seam_stage_[s.seam]);
     for (const SeamPair& s : seams_) {

@@ -108,16 +108,16 @@ std::string validateDrapeParams(const DrapeParams& p) {
   return "";
 }
 
-DrapeReport drape(const Body& body, const GarmentPattern& input, const DrapeParams& params,
+DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& params,
                   TriMesh& garment, const DrapeProgressCallback& progress, int progress_every) {
   const auto tStart = Clock::now();
-  DrapeReport rep;
+  DrapeResult rep;
   const std::string paramError = validateDrapeParams(params);
   if (!paramError.empty()) {
     rep.message = paramError;
     return rep;
   }
-  GarmentPattern pattern = input;
+  Pattern pattern = input;
   normalizePattern(pattern);
   ClothMesh mesh;
   std::string error;

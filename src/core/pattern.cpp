@@ -19,7 +19,7 @@ using pattern_text::panelLabel;
 // Edges walked going up in index order from `from` to `to` (wrapping), on an outline of n points.
 int edgesUp(int n, const OutlineStretch& s) { return ((s.to - s.from) % n + n) % n; }
 
-std::string panelProblem(const Panel& panel) {
+std::string panelProblem(const PatternPanel& panel) {
   using namespace polygon2d;
   const MatrixX2d& P = panel.outline;
   const Eigen::Index n = P.rows();
@@ -68,7 +68,7 @@ Eigen::Vector3d PanelPlacement::place(const Eigen::Vector2d& uv) const {
 
 double outlineSignedArea(const MatrixX2d& outline) { return polygon2d::signedArea(outline); }
 
-std::vector<int> stretchVertices(const GarmentPattern& pattern, const OutlineStretch& s) {
+std::vector<int> stretchVertices(const Pattern& pattern, const OutlineStretch& s) {
   if (s.panel < 0 || s.panel >= static_cast<int>(pattern.panels.size())) return {};
   const int n = static_cast<int>(pattern.panels[static_cast<std::size_t>(s.panel)].outline.rows());
   if (n < 2 || s.from < 0 || s.from >= n || s.to < 0 || s.to >= n || s.from == s.to) return {};
@@ -81,7 +81,7 @@ std::vector<int> stretchVertices(const GarmentPattern& pattern, const OutlineStr
   return walk;
 }
 
-double stretchLength(const GarmentPattern& pattern, const OutlineStretch& s) {
+double stretchLength(const Pattern& pattern, const OutlineStretch& s) {
   const std::vector<int> walk = stretchVertices(pattern, s);
   if (walk.empty()) return 0;
   const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(s.panel)].outline;
@@ -90,7 +90,7 @@ double stretchLength(const GarmentPattern& pattern, const OutlineStretch& s) {
   return len;
 }
 
-std::string validatePattern(const GarmentPattern& pattern, double maxLengthRatio) {
+std::string validatePattern(const Pattern& pattern, double maxLengthRatio) {
   if (pattern.panels.empty())
     return "pattern" + (pattern.name.empty() ? std::string() : " '" + pattern.name + "'") + " has no panels";
   const int np = static_cast<int>(pattern.panels.size());
@@ -100,7 +100,7 @@ std::string validatePattern(const GarmentPattern& pattern, double maxLengthRatio
   }
   for (std::size_t k = 0; k < pattern.seams.size(); ++k) {
     const std::string seam = "seam " + std::to_string(k) + ": ";
-    const Seam& sm = pattern.seams[k];
+    const PatternSeam& sm = pattern.seams[k];
     for (int side = 0; side < 2; ++side) {
       const OutlineStretch& s = side == 0 ? sm.a : sm.b;
       const std::string which = side == 0 ? "a" : "b";
@@ -132,7 +132,7 @@ std::string validatePattern(const GarmentPattern& pattern, double maxLengthRatio
   return "";
 }
 
-void normalizePattern(GarmentPattern& pattern) {
+void normalizePattern(Pattern& pattern) {
   for (std::size_t p = 0; p < pattern.panels.size(); ++p) {
     MatrixX2d& P = pattern.panels[p].outline;
     if (P.rows() < 3 || !(outlineSignedArea(P) < 0)) continue;
@@ -141,7 +141,7 @@ void normalizePattern(GarmentPattern& pattern) {
     // Point i is now point n-1-i. A stretch keeps its points and its direction: its walk from
     // `from` to `to` the short way round becomes the walk from n-1-from to n-1-to the short way
     // round (same number of edges, now going the other way in index order).
-    for (Seam& s : pattern.seams)
+    for (PatternSeam& s : pattern.seams)
       for (OutlineStretch* st : {&s.a, &s.b})
         if (st->panel == static_cast<int>(p) && st->from >= 0 && st->from < n && st->to >= 0 && st->to < n) {
           st->from = n - 1 - st->from;

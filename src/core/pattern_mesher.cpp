@@ -54,7 +54,7 @@ struct PanelGrid {
 };
 
 // Grid nodes, links, quads of one panel (indices local to the grid).
-bool buildGrid(const GarmentPattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads,
+bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads,
                std::string& error) {
   const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(p)].outline;
   g.outline = &P;
@@ -116,7 +116,7 @@ bool buildGrid(const GarmentPattern& pattern, int p, double h, PanelGrid& g, std
 
 }  // namespace
 
-bool meshPattern(const GarmentPattern& pattern, double spacing, ClothMesh& cloth, std::string& error) {
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error) {
   cloth = ClothMesh();
   error.clear();
   if (!(std::isfinite(spacing) && spacing > 0)) {
@@ -215,7 +215,7 @@ bool meshPattern(const GarmentPattern& pattern, double spacing, ClothMesh& cloth
 
   // Seams.
   for (std::size_t k = 0; k < pattern.seams.size(); ++k) {
-    const Seam& seam = pattern.seams[k];
+    const PatternSeam& seam = pattern.seams[k];
     std::vector<Vec2> poly[2];
     int near[2] = {0, 0};
     const OutlineStretch* st[2] = {&seam.a, &seam.b};

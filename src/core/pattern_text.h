@@ -15,7 +15,7 @@ inline std::string num(double x) {
   return s.str();
 }
 
-inline std::string panelLabel(const GarmentPattern& pattern, int p) {
+inline std::string panelLabel(const Pattern& pattern, int p) {
   return "panel '" + pattern.panels[static_cast<std::size_t>(p)].name + "' (index " + std::to_string(p) + ")";
 }
 

@@ -139,7 +139,7 @@ class Reader {
     return true;
   }
 
-  bool panel(const YAML::Node& node, const std::string& path, Panel& panel) {
+  bool panel(const YAML::Node& node, const std::string& path, PatternPanel& panel) {
     if (!checkMap(node, path, {"name", "outline", "placement"}, {"name", "outline"})) return false;
     const YAML::Node name = node["name"];
     if (!name.IsScalar() || name.Scalar().empty())
@@ -163,7 +163,7 @@ class Reader {
     return true;
   }
 
-  bool stretch(const YAML::Node& node, const std::string& path, const GarmentPattern& pattern, OutlineStretch& s) {
+  bool stretch(const YAML::Node& node, const std::string& path, const Pattern& pattern, OutlineStretch& s) {
     if (!checkMap(node, path, {"panel", "from", "to"}, {"panel", "from", "to"})) return false;
     const YAML::Node ref = node["panel"];
     const int np = static_cast<int>(pattern.panels.size());
@@ -181,7 +181,7 @@ class Reader {
       }
       if (!isIndex) {
         std::string names;
-        for (const Panel& p : pattern.panels) names += (names.empty() ? "'" : ", '") + p.name + "'";
+        for (const PatternPanel& p : pattern.panels) names += (names.empty() ? "'" : ", '") + p.name + "'";
         return fail(path + ".panel", ref, "unknown panel '" + ref.Scalar() + "' (panels: " + names + ")");
       }
       if (index < 0 || index >= np)
@@ -190,7 +190,7 @@ class Reader {
                         " panel" + (np == 1 ? "" : "s") + ", 0.." + std::to_string(np - 1) + ")");
       s.panel = index;
     }
-    const Panel& panel = pattern.panels[static_cast<std::size_t>(s.panel)];
+    const PatternPanel& panel = pattern.panels[static_cast<std::size_t>(s.panel)];
     const int n = static_cast<int>(panel.outline.rows());
     for (const char* key : {"from", "to"}) {
       int& v = std::string(key) == "from" ? s.from : s.to;
@@ -206,7 +206,7 @@ class Reader {
     return true;
   }
 
-  bool pattern(const YAML::Node& root, GarmentPattern& out) {
+  bool pattern(const YAML::Node& root, Pattern& out) {
     if (!checkMap(root, "pattern", {"name", "panels", "seams"}, {"panels"})) return false;
     if (root["name"]) {
       if (!root["name"].IsScalar()) return fail("name", root["name"], "expected a pattern name, got " + describe(root["name"]));
@@ -217,7 +217,7 @@ class Reader {
     if (panels.size() == 0) return fail("panels", panels, "the list is empty; a pattern needs at least one panel");
     for (std::size_t i = 0; i < panels.size(); ++i) {
       const std::string pp = "panels[" + std::to_string(i) + "]";
-      Panel p;
+      PatternPanel p;
       if (!panel(panels[i], pp, p)) return false;
       for (std::size_t j = 0; j < out.panels.size(); ++j)
         if (out.panels[j].name == p.name)
@@ -230,7 +230,7 @@ class Reader {
       if (!seams.IsSequence()) return fail("seams", seams, "expected a list of seams, got " + describe(seams));
       for (std::size_t k = 0; k < seams.size(); ++k) {
         const std::string sp = "seams[" + std::to_string(k) + "]";
-        Seam s;
+        PatternSeam s;
         if (!checkMap(seams[k], sp, {"a", "b", "stage"}, {"a", "b"})) return false;
         if (!stretch(seams[k]["a"], sp + ".a", out, s.a) || !stretch(seams[k]["b"], sp + ".b", out, s.b)) return false;
         if (seams[k]["stage"]) {
@@ -289,7 +289,7 @@ std::string scalar(const std::string& s) {
 
 }  // namespace
 
-bool parsePatternYaml(const std::string& text, GarmentPattern& pattern, std::string& error) {
+bool parsePatternYaml(const std::string& text, Pattern& pattern, std::string& error) {
   error.clear();
   try {
     YAML::Node root;
@@ -301,7 +301,7 @@ bool parsePatternYaml(const std::string& text, GarmentPattern& pattern, std::str
       return false;
     }
     Reader reader;
-    GarmentPattern result;
+    Pattern result;
     if (!reader.pattern(root, result)) {
       error = reader.error;
       return false;
@@ -318,7 +318,7 @@ bool parsePatternYaml(const std::string& text, GarmentPattern& pattern, std::str
   return false;
 }
 
-bool readPatternYaml(const std::string& path, GarmentPattern& pattern, std::string& error) {
+bool readPatternYaml(const std::string& path, Pattern& pattern, std::string& error) {
   error.clear();
   try {
     std::ifstream in(path, std::ios::binary);
@@ -345,12 +345,12 @@ bool readPatternYaml(const std::string& path, GarmentPattern& pattern, std::stri
   return false;
 }
 
-std::string patternToYaml(const GarmentPattern& pattern) {
+std::string patternToYaml(const Pattern& pattern) {
   std::ostringstream out;
   out << "# Garment pattern (virtual_tryon); format: config/patterns/README.md\n";
   out << "name: " << (pattern.name.empty() ? "\"\"" : scalar(pattern.name)) << "\n";
   out << "panels:\n";
-  for (const Panel& p : pattern.panels) {
+  for (const PatternPanel& p : pattern.panels) {
     out << "  - name: " << (p.name.empty() ? "\"\"" : scalar(p.name)) << "\n";
     out << "    outline: [";
     for (Eigen::Index i = 0; i < p.outline.rows(); ++i)
@@ -396,7 +396,7 @@ std::string patternToYaml(const GarmentPattern& pattern) {
     out << "seams: []\n";
   } else {
     out << "seams:\n";
-    for (const Seam& s : pattern.seams) {
+    for (const PatternSeam& s : pattern.seams) {
       out << "  - a: " << ref(s.a) << "\n    b: " << ref(s.b) << "\n";
       if (s.stage != 0) out << "    stage: " << s.stage << "\n";
     }

@@ -96,7 +96,7 @@ std::string toJson(const ReferenceCounts& c) {
       .str();
 }
 
-std::string toJson(const DrapeReport& r) {
+std::string toJson(const DrapeResult& r) {
   return Obj()
       .add("success", r.success)
       .add("converged", r.converged)

@@ -146,7 +146,7 @@ bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
   error = validateDrapeParams(params);
   if (!error.empty()) return false;
 
-  GarmentPattern pattern;
+  Pattern pattern;
   if (!rc::fromMsg(req.pattern, pattern, error)) {
     error = "pattern: " + error;
     return false;
@@ -162,13 +162,13 @@ bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
   if (!patternFrame.empty() && patternFrame != body.frame) {
     Eigen::Isometry3d T;
     if (!lookupTransform(patternFrame, body.frame, "pattern", T, error)) return false;
-    for (Panel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
+    for (PatternPanel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
   }
 
   const int rendersBefore = body.body->depthMapRenders();
   TriMesh garment;
   ProgressLog progress;
-  const DrapeReport report = virtual_tryon::drape(
+  const DrapeResult report = virtual_tryon::drape(
       *body.body, pattern, params, garment,
       [&progress](const DrapeProgress& p) { return progress(p); });
   const bool rendered = body.body->depthMapRenders() > rendersBefore;

@@ -71,19 +71,19 @@ geometry_msgs::Pose isometryToPose(const Eigen::Isometry3d& T) {
   return pose;
 }
 
-bool fromMsg(const GarmentPatternMsg& msg, GarmentPattern& pattern, std::string& error) {
-  GarmentPattern out;
+bool fromMsg(const GarmentPattern& msg, Pattern& pattern, std::string& error) {
+  Pattern out;
   out.name = msg.name;
   out.panels.reserve(msg.panels.size());
   for (std::size_t i = 0; i < msg.panels.size(); ++i) {
-    const PanelMsg& pm = msg.panels[i];
+    const Panel& pm = msg.panels[i];
     if (pm.outline_u.size() != pm.outline_v.size()) {
       error = panelName(pm.name, i) + ": outline_u has " + std::to_string(pm.outline_u.size()) +
               " values but outline_v has " + std::to_string(pm.outline_v.size()) +
               " (one u and one v per outline point)";
       return false;
     }
-    Panel panel;
+    PatternPanel panel;
     panel.name = pm.name;
     panel.outline.resize(static_cast<Eigen::Index>(pm.outline_u.size()), 2);
     for (std::size_t k = 0; k < pm.outline_u.size(); ++k) {
@@ -100,8 +100,8 @@ bool fromMsg(const GarmentPatternMsg& msg, GarmentPattern& pattern, std::string&
   }
   out.seams.reserve(msg.seams.size());
   for (std::size_t i = 0; i < msg.seams.size(); ++i) {
-    const SeamMsg& sm = msg.seams[i];
-    Seam s;
+    const Seam& sm = msg.seams[i];
+    PatternSeam s;
     if (!toIndex(sm.panel_a, "panel_a", i, s.a.panel, error) ||
         !toIndex(sm.a_from, "a_from", i, s.a.from, error) ||
         !toIndex(sm.a_to, "a_to", i, s.a.to, error) ||
@@ -115,13 +115,13 @@ bool fromMsg(const GarmentPatternMsg& msg, GarmentPattern& pattern, std::string&
   return true;
 }
 
-GarmentPatternMsg toMsg(const GarmentPattern& pattern, const std_msgs::Header& header) {
-  GarmentPatternMsg msg;
+GarmentPattern toMsg(const Pattern& pattern, const std_msgs::Header& header) {
+  GarmentPattern msg;
   msg.header = header;
   msg.name = pattern.name;
   msg.panels.reserve(pattern.panels.size());
-  for (const Panel& p : pattern.panels) {
-    PanelMsg pm;
+  for (const PatternPanel& p : pattern.panels) {
+    Panel pm;
     pm.name = p.name;
     pm.outline_u.resize(static_cast<std::size_t>(p.outline.rows()));
     pm.outline_v.resize(static_cast<std::size_t>(p.outline.rows()));
@@ -134,8 +134,8 @@ GarmentPatternMsg toMsg(const GarmentPattern& pattern, const std_msgs::Header& h
     msg.panels.push_back(std::move(pm));
   }
   msg.seams.reserve(pattern.seams.size());
-  for (const Seam& s : pattern.seams) {
-    SeamMsg sm;
+  for (const PatternSeam& s : pattern.seams) {
+    Seam sm;
     sm.panel_a = fromIndex(s.a.panel);
     sm.a_from = fromIndex(s.a.from);
     sm.a_to = fromIndex(s.a.to);

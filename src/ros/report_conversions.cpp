@@ -42,8 +42,8 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   return m;
 }
 
-DrapeReportMsg toMsg(const DrapeReport& r, CollisionMode mode) {
-  DrapeReportMsg m;
+DrapeReport toMsg(const DrapeResult& r, CollisionMode mode) {
+  DrapeReport m;
   m.converged = r.converged;
   m.cancelled = r.cancelled;
   m.message = r.message;

@@ -140,7 +140,7 @@ TEST(Cli, BadInputExitsTwo) {
 
 TEST(Cli, DrapeSettlesTheBagOnTheCapsulePrintsJsonAndWritesTheGarment) {
   const std::string dir = drapeScene();
-  GarmentPattern pattern;
+  Pattern pattern;
   std::string err;
   ASSERT_TRUE(readPatternYaml(dir + "/bag.yaml", pattern, err)) << err;  // the test's own input is valid
 

@@ -17,8 +17,8 @@ const Body& proceduralBody() {
   return *body;
 }
 
-GarmentPattern loadPattern(const std::string& name) {
-  GarmentPattern p;
+Pattern loadPattern(const std::string& name) {
+  Pattern p;
   std::string err;
   EXPECT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
       << err;
@@ -32,7 +32,7 @@ TEST(Drape, SkirtOnTheProceduralBodyConvergesWithZeroCrossings) {
   DrapeParams params;
   params.spacing = 0.03;
   TriMesh garment;
-  const DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  const DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(rep.converged) << rep.message;
   EXPECT_EQ(rep.seams_open, 0);
@@ -65,7 +65,7 @@ TEST(Drape, MapsAreRenderedOncePerBody) {
   params.spacing = 0.05;
   params.max_iterations = 20;
   params.resolve = false;
-  GarmentPattern p = loadPattern("skirt.yaml");
+  Pattern p = loadPattern("skirt.yaml");
   TriMesh g;
   drape(body, p, params, g);
   drape(body, p, params, g);
@@ -84,7 +84,7 @@ TEST(Drape, StiffClothWithTheAutomaticStepStaysFinite) {
   params.cloth.k_flexion *= 100;
   params.max_iterations = 3000;
   TriMesh garment;
-  const DrapeReport rep = drape(body, loadPattern("dress.yaml"), params, garment);
+  const DrapeResult rep = drape(body, loadPattern("dress.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(garment.V.allFinite());
   EXPECT_LE(rep.dt, rep.dt_bound);
@@ -98,7 +98,7 @@ TEST(Drape, ADtAboveTheBoundIsRefusedOrClamped) {
   params.spacing = 0.05;
   params.dt = 1.0;
   TriMesh garment;
-  DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment);
   EXPECT_FALSE(rep.success);
   EXPECT_NE(rep.message.find("stability bound"), std::string::npos) << rep.message;
   EXPECT_EQ(garment.V.rows(), 0);
@@ -114,10 +114,10 @@ TEST(Drape, ADtAboveTheBoundIsRefusedOrClamped) {
 
 TEST(Drape, BadParametersAreRefusedWithTheirName) {
   const Body& body = proceduralBody();
-  const GarmentPattern p = loadPattern("skirt.yaml");
+  const Pattern p = loadPattern("skirt.yaml");
   auto refuse = [&](DrapeParams params, const std::string& name) {
     TriMesh g;
-    const DrapeReport rep = drape(body, p, params, g);
+    const DrapeResult rep = drape(body, p, params, g);
     EXPECT_FALSE(rep.success) << name;
     EXPECT_NE(rep.message.find(name), std::string::npos) << rep.message;
   };
@@ -146,7 +146,7 @@ TEST(Drape, ObjectSpaceCollisionsDrapeTooAndCancelStops) {
   params.max_iterations = 400;
   TriMesh garment;
   int calls = 0;
-  const DrapeReport rep = drape(body, loadPattern("skirt.yaml"), params, garment,
+  const DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment,
                                 [&](const DrapeProgress& pr) {
                                   ++calls;
                                   return pr.iteration < 100;

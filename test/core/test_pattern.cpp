@@ -26,8 +26,8 @@ MatrixX2d outlineOf(std::initializer_list<std::pair<double, double>> pts) {
   return P;
 }
 
-Panel rectPanel(const std::string& name, double x0, double y0, double x1, double y1) {
-  Panel p;
+PatternPanel rectPanel(const std::string& name, double x0, double y0, double x1, double y1) {
+  PatternPanel p;
   p.name = name;
   p.outline = outlineOf({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}});
   return p;
@@ -41,8 +41,8 @@ OutlineStretch st(int panel, int from, int to) {
   return s;
 }
 
-Seam seamOf(OutlineStretch a, OutlineStretch b) {
-  Seam s;
+PatternSeam seamOf(OutlineStretch a, OutlineStretch b) {
+  PatternSeam s;
   s.a = a;
   s.b = b;
   return s;
@@ -50,13 +50,13 @@ Seam seamOf(OutlineStretch a, OutlineStretch b) {
 
 // Two rectangles w x h, each wrapped half a turn round a cylinder of radius r (w = pi r), the back
 // one turned half a turn about +y; sewn along both sides, hem to hem.
-GarmentPattern tube(double r, double h) {
-  GarmentPattern g;
+Pattern tube(double r, double h) {
+  Pattern g;
   g.name = "tube";
   const double w = kPi * r;
   g.panels.push_back(rectPanel("front", -w / 2, 0, w / 2, h));
   g.panels.push_back(rectPanel("back", -w / 2, 0, w / 2, h));
-  for (Panel& p : g.panels) p.placement.wrap_radius = r;
+  for (PatternPanel& p : g.panels) p.placement.wrap_radius = r;
   g.panels[1].placement.pose.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()).toRotationMatrix();
   g.seams.push_back(seamOf(st(0, 1, 2), st(1, 0, 3)));  // front right (+x) with back left, hem up
   g.seams.push_back(seamOf(st(0, 0, 3), st(1, 1, 2)));  // front left (-x) with back right, hem up
@@ -82,11 +82,11 @@ std::vector<SeamPair> pairsOfSeam(const ClothMesh& c, int seam) {
   return out;
 }
 
-void expectSamePattern(const GarmentPattern& a, const GarmentPattern& b, double tol) {
+void expectSamePattern(const Pattern& a, const Pattern& b, double tol) {
   EXPECT_EQ(a.name, b.name);
   ASSERT_EQ(a.panels.size(), b.panels.size());
   for (std::size_t i = 0; i < a.panels.size(); ++i) {
-    const Panel &p = a.panels[i], &q = b.panels[i];
+    const PatternPanel &p = a.panels[i], &q = b.panels[i];
     EXPECT_EQ(p.name, q.name);
     ASSERT_EQ(p.outline.rows(), q.outline.rows());
     EXPECT_LE((p.outline - q.outline).cwiseAbs().maxCoeff(), tol) << p.name;
@@ -103,7 +103,7 @@ void expectSamePattern(const GarmentPattern& a, const GarmentPattern& b, double 
 }
 
 std::string parseError(const std::string& text) {
-  GarmentPattern p;
+  Pattern p;
   std::string error;
   EXPECT_FALSE(parsePatternYaml(text, p, error)) << text;
   return error;
@@ -160,7 +160,7 @@ TEST(PanelPlacement, WrapPutsNodesOnTheCylinder) {
 // Meshing
 
 TEST(MeshPattern, RectangleGridCountsAndRestLengths) {
-  GarmentPattern g;
+  Pattern g;
   g.panels.push_back(rectPanel("sheet", 0, 0, 1.0, 0.5));
   ClothMesh c;
   std::string error;
@@ -210,7 +210,7 @@ TEST(MeshPattern, RectangleGridCountsAndRestLengths) {
 }
 
 TEST(MeshPattern, GridIsCentredOnTheBoundingBox) {
-  GarmentPattern g;
+  Pattern g;
   g.panels.push_back(rectPanel("p", 0, 0, 1.05, 0.5));
   ClothMesh c;
   std::string error;
@@ -221,7 +221,7 @@ TEST(MeshPattern, GridIsCentredOnTheBoundingBox) {
 }
 
 TEST(MeshPattern, NormalsFollowThePoseAndPointOutwardOnAWrap) {
-  GarmentPattern g;
+  Pattern g;
   g.panels.push_back(rectPanel("p", -0.3, 0, 0.3, 0.4));
   g.panels[0].placement.pose.linear() =
       Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // faces +y
@@ -244,8 +244,8 @@ TEST(MeshPattern, NormalsFollowThePoseAndPointOutwardOnAWrap) {
 }
 
 TEST(MeshPattern, TriangleOutlineIsClipped) {
-  GarmentPattern g;
-  g.panels.push_back(Panel{"tri", outlineOf({{0, 0}, {1, 0}, {0, 1}}), PanelPlacement()});
+  Pattern g;
+  g.panels.push_back(PatternPanel{"tri", outlineOf({{0, 0}, {1, 0}, {0, 1}}), PanelPlacement()});
   ClothMesh c;
   std::string error;
   ASSERT_TRUE(meshPattern(g, 0.1, c, error)) << error;
@@ -271,8 +271,8 @@ TEST(MeshPattern, TriangleOutlineIsClipped) {
 TEST(MeshPattern, NarrowNotchIsNotBridged) {
   // A 1 x 1 square with a slit 2 cm wide from the top down to v = 0.5, between grid columns
   // u = 0.4 and u = 0.5: no spring or quad may cross it above v = 0.5.
-  GarmentPattern g;
-  g.panels.push_back(Panel{"slit",
+  Pattern g;
+  g.panels.push_back(PatternPanel{"slit",
                            outlineOf({{0, 0}, {1, 0}, {1, 1}, {0.46, 1}, {0.46, 0.55}, {0.44, 0.55}, {0.44, 1}, {0, 1}}),
                            PanelPlacement()});
   ClothMesh c;
@@ -299,7 +299,7 @@ TEST(MeshPattern, NarrowNotchIsNotBridged) {
 
 TEST(MeshPattern, TubeSeamsPairNodesThatMeet) {
   const double r = 0.2, h = 0.5, spacing = 0.05;
-  const GarmentPattern g = tube(r, h);
+  const Pattern g = tube(r, h);
   ASSERT_EQ(validatePattern(g), "");
   ClothMesh c;
   std::string error;
@@ -327,7 +327,7 @@ TEST(MeshPattern, TubeSeamsPairNodesThatMeet) {
 }
 
 TEST(MeshPattern, SeamDirectionMatters) {
-  GarmentPattern g = tube(0.2, 0.5);
+  Pattern g = tube(0.2, 0.5);
   std::swap(g.seams[0].b.from, g.seams[0].b.to);  // back's left edge walked waist to hem
   ASSERT_EQ(validatePattern(g), "");
   ClothMesh c;
@@ -347,7 +347,7 @@ TEST(MeshPattern, SeamDirectionMatters) {
 
 TEST(MeshPattern, SeamOnTheLongerSideGetsOnePairPerNode) {
   // Stretch a is 0.5 m (11 nodes at 5 cm), b is 0.4 m (9 nodes): 11 pairs, every node of a once.
-  GarmentPattern g;
+  Pattern g;
   g.panels.push_back(rectPanel("long", 0, 0, 0.3, 0.5));
   g.panels.push_back(rectPanel("short", 0, 0, 0.3, 0.4));
   g.panels[1].placement.pose.translation() = Eigen::Vector3d(0.35, 0, 0);
@@ -373,8 +373,8 @@ TEST(MeshPattern, SeamOnTheLongerSideGetsOnePairPerNode) {
 TEST(MeshPattern, DartOnOnePanelDropsTheTipPair) {
   // A dart: two stretches of the same panel meeting at the tip (point 3); the tip pairs with
   // itself and is dropped.
-  GarmentPattern g;
-  g.panels.push_back(Panel{"bodice",
+  Pattern g;
+  g.panels.push_back(PatternPanel{"bodice",
                            outlineOf({{0, 0}, {0.6, 0}, {0.6, 0.6}, {0.35, 0.6}, {0.3, 0.3}, {0.25, 0.6}, {0, 0.6}}),
                            PanelPlacement()});
   g.seams.push_back(seamOf(st(0, 3, 4), st(0, 5, 4)));
@@ -395,7 +395,7 @@ TEST(MeshPattern, DartOnOnePanelDropsTheTipPair) {
 TEST(MeshPattern, Errors) {
   ClothMesh c;
   std::string error;
-  GarmentPattern g;
+  Pattern g;
   g.panels.push_back(rectPanel("small", 0, 0, 0.1, 0.05));
   EXPECT_FALSE(meshPattern(g, 0.1, c, error));
   EXPECT_EQ(error, "panel 'small' (index 0): no grid quad fits at spacing 0.1 m (outline bounding box 0.1 x 0.05 m)");
@@ -407,9 +407,9 @@ TEST(MeshPattern, Errors) {
 
   // A seam along a 5 cm edge at 10 cm spacing: the edge's grid node belongs to no quad and is
   // dropped, so no boundary node is near either stretch.
-  GarmentPattern s;
+  Pattern s;
   for (const char* name : {"a", "b"})
-    s.panels.push_back(Panel{name, outlineOf({{0, 0}, {0.5, 0}, {0.5, 0.05}, {0.25, 0.5}, {0, 0.5}}), PanelPlacement()});
+    s.panels.push_back(PatternPanel{name, outlineOf({{0, 0}, {0.5, 0}, {0.5, 0.05}, {0.25, 0.5}, {0, 0.5}}), PanelPlacement()});
   s.seams.push_back(seamOf(st(0, 1, 2), st(1, 1, 2)));
   EXPECT_EQ(validatePattern(s), "");
   EXPECT_FALSE(meshPattern(s, 0.1, c, error));
@@ -427,7 +427,7 @@ TEST(MeshPattern, Errors) {
 
 TEST(MeshPattern, Meshes3840NodesInAFewMilliseconds) {
   // The paper's dress has 3840 vertices; our two-panel skirt at 1.25 cm has about as many.
-  GarmentPattern g;
+  Pattern g;
   std::string error;
   ASSERT_TRUE(readPatternYaml(VIRTUAL_TRYON_SOURCE_DIR "/config/patterns/examples/tube_skirt.yaml", g, error)) << error;
   ClothMesh c;
@@ -449,12 +449,12 @@ TEST(MeshPattern, Meshes3840NodesInAFewMilliseconds) {
 // Validation
 
 TEST(ValidatePattern, PanelProblems) {
-  GarmentPattern g;
+  Pattern g;
   g.name = "dress";
   EXPECT_EQ(validatePattern(g), "pattern 'dress' has no panels");
   g.panels.push_back(rectPanel("front", 0, 0, 1, 1));
   EXPECT_EQ(validatePattern(g), "");
-  g.panels.push_back(Panel{"bow", outlineOf({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), PanelPlacement()});
+  g.panels.push_back(PatternPanel{"bow", outlineOf({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), PanelPlacement()});
   EXPECT_EQ(validatePattern(g),
             "panel 'bow' (index 1): outline is self-intersecting: edge 0 (points 0-1) meets edge 2 (points 2-3)");
   // Touching counts: a vertex on a non-adjacent edge.
@@ -487,7 +487,7 @@ TEST(ValidatePattern, PanelProblems) {
 }
 
 TEST(ValidatePattern, SeamProblems) {
-  GarmentPattern g = tube(0.2, 0.5);
+  Pattern g = tube(0.2, 0.5);
   ASSERT_EQ(validatePattern(g), "");
   g.seams[1].b.panel = 2;
   EXPECT_EQ(validatePattern(g), "seam 1: b names panel 2, but the pattern has 2 panels (indices 0..1)");
@@ -517,8 +517,8 @@ TEST(ValidatePattern, SeamProblems) {
 }
 
 TEST(Stretch, WalksTheShortWayRoundInTheGivenDirection) {
-  GarmentPattern g;
-  g.panels.push_back(Panel{"hex", outlineOf({{0, 0}, {1, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 1}}), PanelPlacement()});
+  Pattern g;
+  g.panels.push_back(PatternPanel{"hex", outlineOf({{0, 0}, {1, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 1}}), PanelPlacement()});
   EXPECT_EQ(stretchVertices(g, st(0, 1, 2)), (std::vector<int>{1, 2}));
   EXPECT_EQ(stretchVertices(g, st(0, 2, 1)), (std::vector<int>{2, 1}));
   EXPECT_EQ(stretchVertices(g, st(0, 5, 1)), (std::vector<int>{5, 0, 1}));
@@ -536,7 +536,7 @@ TEST(Stretch, WalksTheShortWayRoundInTheGivenDirection) {
 
 TEST(NormalizePattern, ReversesClockwiseOutlinesAndKeepsSeams) {
   // The tube with the back panel's outline listed clockwise.
-  GarmentPattern g = tube(0.2, 0.5);
+  Pattern g = tube(0.2, 0.5);
   const MatrixX2d ccw = g.panels[1].outline;
   g.panels[1].outline = ccw.colwise().reverse().eval();  // points 0..3 are now old 3..0
   // Same seams in the new numbering: old i is now 3 - i.
@@ -548,7 +548,7 @@ TEST(NormalizePattern, ReversesClockwiseOutlinesAndKeepsSeams) {
   std::string error;
   ASSERT_TRUE(meshPattern(g, 0.05, before, error)) << error;
 
-  GarmentPattern n = g;
+  Pattern n = g;
   normalizePattern(n);
   EXPECT_GT(outlineSignedArea(n.panels[0].outline), 0);
   EXPECT_GT(outlineSignedArea(n.panels[1].outline), 0);
@@ -576,18 +576,18 @@ TEST(NormalizePattern, ReversesClockwiseOutlinesAndKeepsSeams) {
     EXPECT_EQ(before.seam_pairs[k].b, after.seam_pairs[k].b);
   }
   // Idempotent.
-  GarmentPattern twice = n;
+  Pattern twice = n;
   normalizePattern(twice);
   expectSamePattern(twice, n, 0);
 }
 
 TEST(NormalizePattern, SamePanelSeamAndLongerWalks) {
   // A 6-point clockwise panel sewn to itself; both stretches are renumbered.
-  GarmentPattern g;
-  g.panels.push_back(Panel{"p", outlineOf({{0, 0}, {0, 1}, {1, 2}, {2, 1}, {2, 0}, {1, -1}}), PanelPlacement()});
+  Pattern g;
+  g.panels.push_back(PatternPanel{"p", outlineOf({{0, 0}, {0, 1}, {1, 2}, {2, 1}, {2, 0}, {1, -1}}), PanelPlacement()});
   g.seams.push_back(seamOf(st(0, 5, 1), st(0, 2, 4)));
   ASSERT_LT(outlineSignedArea(g.panels[0].outline), 0);
-  GarmentPattern n = g;
+  Pattern n = g;
   normalizePattern(n);
   EXPECT_EQ(n.seams[0].a.from, 0);
   EXPECT_EQ(n.seams[0].a.to, 4);
@@ -605,7 +605,7 @@ TEST(NormalizePattern, SamePanelSeamAndLongerWalks) {
 // YAML
 
 TEST(PatternYaml, ParsesTheDocumentedFormat) {
-  GarmentPattern p;
+  Pattern p;
   std::string error;
   ASSERT_TRUE(parsePatternYaml(kTwoPanelYaml, p, error)) << error;
   EXPECT_EQ(p.name, "skirt");
@@ -630,7 +630,7 @@ TEST(PatternYaml, ParsesTheDocumentedFormat) {
 }
 
 TEST(PatternYaml, RpyIsFixedAxesXYZ) {
-  GarmentPattern p;
+  Pattern p;
   std::string error;
   ASSERT_TRUE(parsePatternYaml("panels:\n  - name: p\n    outline: [[0,0],[1,0],[0,1]]\n"
                                "    placement: {rotation_rpy: [0.1, 0.2, 0.3]}\n",
@@ -728,7 +728,7 @@ TEST(PatternYaml, SeamReferences) {
   EXPECT_EQ(parseError("panels:\n  - {name: bow, outline: [[0, 0], [1, 1], [1, 0], [0, 1]]}\n"),
             "panel 'bow' (index 0): outline is self-intersecting: edge 0 (points 0-1) meets edge 2 (points 2-3)");
   // A panel whose name looks like an index is found by name first.
-  GarmentPattern p;
+  Pattern p;
   std::string error;
   ASSERT_TRUE(parsePatternYaml("panels:\n  - {name: x, outline: [[0, 0], [1, 0], [1, 1], [0, 1]]}\n"
                                "  - {name: '0', outline: [[0, 0], [1, 0], [1, 1], [0, 1]]}\n"
@@ -747,7 +747,7 @@ TEST(PatternYaml, SyntaxErrorsGiveLineAndColumn) {
 }
 
 TEST(PatternYaml, FailureLeavesThePatternAndNeverThrows) {
-  GarmentPattern p = tube(0.2, 0.5);
+  Pattern p = tube(0.2, 0.5);
   std::string error;
   EXPECT_NO_THROW(EXPECT_FALSE(parsePatternYaml("panels: [{name: a, outline: [[0, 0], [1, 0]]}]", p, error)));
   EXPECT_EQ(p.panels.size(), 2u);
@@ -760,7 +760,7 @@ TEST(PatternYaml, FailureLeavesThePatternAndNeverThrows) {
 }
 
 TEST(PatternYaml, RoundTrip) {
-  GarmentPattern g = tube(0.2, 0.5);
+  Pattern g = tube(0.2, 0.5);
   g.name = "round: trip #1";
   g.panels[0].name = "front \"left\"";
   g.panels[0].placement.pose.translation() = Eigen::Vector3d(0.1, 0.9, -1.0 / 3);
@@ -768,14 +768,14 @@ TEST(PatternYaml, RoundTrip) {
       Eigen::Quaterniond(0.3, -0.5, 0.7, 0.1).normalized().toRotationMatrix();  // generic: as rpy or quaternion
   g.panels[1].placement.pose.linear() =
       Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();  // gimbal lock
-  g.panels.push_back(Panel{"null", outlineOf({{0.1, 0.2}, {1e-3, 1e-17}, {-1e5, 7.123456789012345}}), PanelPlacement()});
+  g.panels.push_back(PatternPanel{"null", outlineOf({{0.1, 0.2}, {1e-3, 1e-17}, {-1e5, 7.123456789012345}}), PanelPlacement()});
   g.seams.push_back(seamOf(st(2, 0, 1), st(2, 1, 2)));
   ASSERT_EQ(validatePattern(g, 1e9), "");
   const std::string text = patternToYaml(g);
-  GarmentPattern back;
+  Pattern back;
   std::string error;
   // The 1e5 edge against a 0.1 edge would fail the default length check: drop that seam to parse.
-  GarmentPattern loadable = g;
+  Pattern loadable = g;
   loadable.seams.pop_back();
   ASSERT_TRUE(parsePatternYaml(patternToYaml(loadable), back, error)) << error << "\n" << patternToYaml(loadable);
   expectSamePattern(loadable, back, 1e-12);
@@ -783,21 +783,21 @@ TEST(PatternYaml, RoundTrip) {
   EXPECT_EQ(back.panels[2].outline, loadable.panels[2].outline);
   EXPECT_EQ(back.panels[0].placement.pose.translation(), loadable.panels[0].placement.pose.translation());
   // And again (rotations may move in the last digit, outlines do not).
-  GarmentPattern again;
+  Pattern again;
   ASSERT_TRUE(parsePatternYaml(patternToYaml(back), again, error)) << error;
   expectSamePattern(loadable, again, 1e-12);
   EXPECT_EQ(again.panels[0].outline, loadable.panels[0].outline);
   EXPECT_NE(text.find("seams:"), std::string::npos);
 
   // Duplicate names: seams written by index.
-  GarmentPattern dup = tube(0.2, 0.5);
+  Pattern dup = tube(0.2, 0.5);
   dup.panels[1].name = "front";
   const std::string dupText = patternToYaml(dup);
   EXPECT_NE(dupText.find("{panel: 1, from: 0, to: 3}"), std::string::npos) << dupText;
 }
 
 TEST(PatternYaml, ExampleFiles) {
-  GarmentPattern skirt, sheet;
+  Pattern skirt, sheet;
   std::string error;
   ASSERT_TRUE(readPatternYaml(VIRTUAL_TRYON_SOURCE_DIR "/config/patterns/examples/tube_skirt.yaml", skirt, error))
       << error;
@@ -841,14 +841,14 @@ TEST(PatternYaml, ExampleFiles) {
 
 TEST(PatternYaml, SeamStages) {
   const std::string base(kTwoPanelYaml);
-  GarmentPattern p;
+  Pattern p;
   std::string error;
   ASSERT_TRUE(parsePatternYaml(base, p, error)) << error;
   EXPECT_EQ(p.seams[0].stage, 0);  // absent: stage 0
   const std::string staged = base + "    stage: 2\n";
   ASSERT_TRUE(parsePatternYaml(staged, p, error)) << error;
   EXPECT_EQ(p.seams[1].stage, 2);
-  GarmentPattern back;
+  Pattern back;
   ASSERT_TRUE(parsePatternYaml(patternToYaml(p), back, error)) << error;
   EXPECT_EQ(back.seams[1].stage, 2);
   EXPECT_EQ(back.seams[0].stage, 0);

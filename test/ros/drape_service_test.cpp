@@ -8,7 +8,7 @@
 #include "virtual_tryon/core/procedural.h"
 #include "virtual_tryon/core/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
-#include "virtual_tryon/ros/msgs.h"  // virtual_tryon::Drape (renamed drape messages)
+#include <virtual_tryon/Drape.h>
 #include "virtual_tryon/ros/pattern_conversions.h"
 
 #include "marker_wait.h"
@@ -42,11 +42,11 @@ vt::TriMesh capsule() { return vt::makeCapsule(0.15, 0.6); }
 // A bag over the top of the capsule: two 0.6 x 0.3 m rectangles wrapped half a turn each on a
 // 0.2 m cylinder about y (front facing +z; back turned half a turn about y), hem at y = 0.25,
 // sewn along both sides into a tube and across the top, so that it rests on the cap.
-vt::GarmentPattern bag() {
-  vt::GarmentPattern p;
+vt::Pattern bag() {
+  vt::Pattern p;
   p.name = "bag";
   for (int i = 0; i < 2; ++i) {
-    vt::Panel panel;
+    vt::PatternPanel panel;
     panel.name = i == 0 ? "front" : "back";
     panel.outline.resize(4, 2);
     panel.outline << -0.3, 0.0, 0.3, 0.0, 0.3, 0.3, -0.3, 0.3;
@@ -55,7 +55,7 @@ vt::GarmentPattern bag() {
     panel.placement.wrap_radius = 0.2;
     p.panels.push_back(panel);
   }
-  vt::Seam right, left, top;
+  vt::PatternSeam right, left, top;
   right.a = {0, 1, 2};  // front's +x side, hem to top ...
   right.b = {1, 0, 3};  // ... meets the back's side on +x
   left.a = {0, 0, 3};
@@ -75,13 +75,13 @@ pcl_msgs::PolygonMesh toMsg(const vt::TriMesh& mesh, const std::string& frame) {
   return msg;
 }
 
-vt::GarmentPatternMsg patternMsg(const vt::GarmentPattern& p, const std::string& frame) {
+vt::GarmentPattern patternMsg(const vt::Pattern& p, const std::string& frame) {
   std_msgs::Header h;
   h.frame_id = frame;
   return rc::toMsg(p, h);
 }
 
-Drape::Request request(const pcl_msgs::PolygonMesh& body, const vt::GarmentPatternMsg& pattern) {
+Drape::Request request(const pcl_msgs::PolygonMesh& body, const vt::GarmentPattern& pattern) {
   Drape::Request req;
   req.body = body;
   req.pattern = pattern;
@@ -209,7 +209,7 @@ TEST(DrapeService, DtAboveTheBoundFailsAndTheNodeKeepsServingFromTheCachedMaps) 
 }
 
 TEST(DrapeService, BadPatternsFailWithAReason) {
-  vt::GarmentPatternMsg pattern = patternMsg(bag(), "body");
+  vt::GarmentPattern pattern = patternMsg(bag(), "body");
   pattern.panels[1].outline_u.push_back(0.1);
   Drape::Response res = call(request(toMsg(capsule(), "body"), pattern));
   EXPECT_FALSE(res.success);
@@ -249,8 +249,8 @@ TEST(DrapeService, PatternInAnotherFrameIsTransformedIntoTheBodyFrame) {
   broadcaster.sendTransform(t);
 
   // The same bag, with its placements expressed in pattern_frame.
-  vt::GarmentPattern p = bag();
-  for (vt::Panel& panel : p.panels) panel.placement.pose = bodyFromPattern.inverse() * panel.placement.pose;
+  vt::Pattern p = bag();
+  for (vt::PatternPanel& panel : p.panels) panel.placement.pose = bodyFromPattern.inverse() * panel.placement.pose;
 
   Drape::Response res;
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);

@@ -1,4 +1,4 @@
-// GarmentPattern message <-> core conversions and DrapeReport -> message.
+// Pattern message <-> core conversions and DrapeResult -> message.
 #include "virtual_tryon/ros/pattern_conversions.h"
 #include "virtual_tryon/ros/report_conversions.h"
 
@@ -18,11 +18,11 @@ bool contains(const std::string& s, const std::string& part) {
 }
 
 // A valid two-panel skirt with non-trivial poses (rotation about a tilted axis, translation).
-vt::GarmentPattern skirt() {
-  vt::GarmentPattern p;
+vt::Pattern skirt() {
+  vt::Pattern p;
   p.name = "skirt";
   for (int i = 0; i < 2; ++i) {
-    vt::Panel panel;
+    vt::PatternPanel panel;
     panel.name = i == 0 ? "front" : "back";
     panel.outline.resize(4, 2);
     panel.outline << -0.33, 0.0, 0.33, 0.0, 0.29, 0.5, -0.29, 0.5;
@@ -31,7 +31,7 @@ vt::GarmentPattern skirt() {
     panel.placement.wrap_radius = 0.2;
     p.panels.push_back(panel);
   }
-  vt::Seam s1, s2;
+  vt::PatternSeam s1, s2;
   s1.a = {0, 1, 2};
   s1.b = {1, 0, 3};
   s2.a = {0, 0, 3};
@@ -40,7 +40,7 @@ vt::GarmentPattern skirt() {
   return p;
 }
 
-vt::GarmentPatternMsg skirtMsg() {
+vt::GarmentPattern skirtMsg() {
   std_msgs::Header h;
   h.frame_id = "body";
   return rc::toMsg(skirt(), h);
@@ -49,11 +49,11 @@ vt::GarmentPatternMsg skirtMsg() {
 }  // namespace
 
 TEST(PatternConversions, RoundTripIsExact) {
-  const vt::GarmentPattern in = skirt();
+  const vt::Pattern in = skirt();
   ASSERT_EQ(vt::validatePattern(in), "");
   std_msgs::Header h;
   h.frame_id = "torso";
-  const vt::GarmentPatternMsg msg = rc::toMsg(in, h);
+  const vt::GarmentPattern msg = rc::toMsg(in, h);
   EXPECT_EQ(msg.header.frame_id, "torso");
   EXPECT_EQ(msg.name, "skirt");
   ASSERT_EQ(msg.panels.size(), 2u);
@@ -71,7 +71,7 @@ TEST(PatternConversions, RoundTripIsExact) {
   EXPECT_NEAR(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w, 1.0, 1e-12);
   EXPECT_GE(q.w, 0.0);
 
-  vt::GarmentPattern out;
+  vt::Pattern out;
   std::string error;
   ASSERT_TRUE(rc::fromMsg(msg, out, error)) << error;
   EXPECT_EQ(out.name, in.name);
@@ -101,14 +101,14 @@ TEST(PatternConversions, RoundTripIsExact) {
 }
 
 TEST(PatternConversions, QuaternionIsNormalized) {
-  vt::GarmentPatternMsg msg = skirtMsg();
+  vt::GarmentPattern msg = skirtMsg();
   auto& q = msg.panels[0].pose.orientation;
   q.x = 0;
   q.y = 0;
   q.z = 3;  // 180 degrees about z, not unit
   q.w = 0;
   msg.panels[0].pose.position.x = 1.5;
-  vt::GarmentPattern out;
+  vt::Pattern out;
   std::string error;
   ASSERT_TRUE(rc::fromMsg(msg, out, error)) << error;
   const Eigen::Matrix3d R = out.panels[0].placement.pose.linear();
@@ -119,9 +119,9 @@ TEST(PatternConversions, QuaternionIsNormalized) {
 }
 
 TEST(PatternConversions, MismatchedOutlineLengthsFailNamingThePanel) {
-  vt::GarmentPatternMsg msg = skirtMsg();
+  vt::GarmentPattern msg = skirtMsg();
   msg.panels[1].outline_v.pop_back();
-  vt::GarmentPattern out = skirt();
+  vt::Pattern out = skirt();
   out.name = "untouched";
   std::string error;
   EXPECT_FALSE(rc::fromMsg(msg, out, error));
@@ -133,9 +133,9 @@ TEST(PatternConversions, MismatchedOutlineLengthsFailNamingThePanel) {
 
 TEST(PatternConversions, ZeroOrNonFiniteQuaternionFails) {
   {
-    vt::GarmentPatternMsg msg = skirtMsg();
+    vt::GarmentPattern msg = skirtMsg();
     msg.panels[0].pose.orientation = geometry_msgs::Quaternion();  // all zero: an unset pose
-    vt::GarmentPattern out;
+    vt::Pattern out;
     std::string error;
     EXPECT_FALSE(rc::fromMsg(msg, out, error));
     EXPECT_TRUE(contains(error, "panel 'front' (index 0)")) << error;
@@ -143,18 +143,18 @@ TEST(PatternConversions, ZeroOrNonFiniteQuaternionFails) {
     EXPECT_TRUE(out.panels.empty());
   }
   for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
-    vt::GarmentPatternMsg msg = skirtMsg();
+    vt::GarmentPattern msg = skirtMsg();
     msg.panels[1].pose.orientation.y = bad;
-    vt::GarmentPattern out;
+    vt::Pattern out;
     std::string error;
     EXPECT_FALSE(rc::fromMsg(msg, out, error)) << bad;
     EXPECT_TRUE(contains(error, "panel 'back' (index 1)")) << error;
     EXPECT_TRUE(contains(error, "not a finite quaternion")) << error;
   }
   {
-    vt::GarmentPatternMsg msg = skirtMsg();
+    vt::GarmentPattern msg = skirtMsg();
     msg.panels[1].pose.position.z = std::numeric_limits<double>::quiet_NaN();
-    vt::GarmentPattern out;
+    vt::Pattern out;
     std::string error;
     EXPECT_FALSE(rc::fromMsg(msg, out, error));
     EXPECT_TRUE(contains(error, "position")) << error;
@@ -162,9 +162,9 @@ TEST(PatternConversions, ZeroOrNonFiniteQuaternionFails) {
 }
 
 TEST(PatternConversions, SeamIndexBeyondIntFails) {
-  vt::GarmentPatternMsg msg = skirtMsg();
+  vt::GarmentPattern msg = skirtMsg();
   msg.seams[1].b_from = 4000000000u;
-  vt::GarmentPattern out;
+  vt::Pattern out;
   std::string error;
   EXPECT_FALSE(rc::fromMsg(msg, out, error));
   EXPECT_TRUE(contains(error, "seam 1")) << error;
@@ -172,7 +172,7 @@ TEST(PatternConversions, SeamIndexBeyondIntFails) {
 }
 
 TEST(ReportConversions, DrapeReportFieldByField) {
-  vt::DrapeReport r;
+  vt::DrapeResult r;
   r.success = true;
   r.converged = true;
   r.cancelled = false;
@@ -198,7 +198,7 @@ TEST(ReportConversions, DrapeReportFieldByField) {
   r.resolver_run = true;
   r.resolver.iterations = 4;
   r.resolver.reason = "done";
-  const vt::DrapeReportMsg m = rc::toMsg(r, vt::CollisionMode::ImageSpace);
+  const vt::DrapeReport m = rc::toMsg(r, vt::CollisionMode::ImageSpace);
   EXPECT_TRUE(m.converged);
   EXPECT_EQ(m.message, "draped");
   ASSERT_EQ(m.warnings.size(), 2u);

@@ -66,7 +66,7 @@ class ClothState {
   using VelocityHook = std::function<void(const MatrixX3d& x, MatrixX3d& v)>;
   void setVelocityHook(VelocityHook hook) { hook_ = std::move(hook); }
 
-  // Seam pairs still open, and the largest and mean gap between their ends (metres).
+  // PatternSeam pairs still open, and the largest and mean gap between their ends (metres).
   double maxSeamGap() const;
   double meanSeamGap() const;
   // Welds every seam whose pairs are all closer than `tolerance`: their nodes merge into one

@@ -50,7 +50,7 @@ struct DrapeProgress {
 // Called every `progress_every` iterations; return false to cancel.
 using DrapeProgressCallback = std::function<bool(const DrapeProgress&)>;
 
-struct DrapeReport {
+struct DrapeResult {
   bool success = false;    // false: bad input or the integration blew up (see message)
   bool converged = false;  // seams welded, cloth settled, and (if run) the resolver converged
   bool cancelled = false;
@@ -78,7 +78,7 @@ struct DrapeReport {
 
 // Drapes `pattern` on `body`; the result (welded, one mesh) goes to `garment` even when not
 // converged, as long as success is true.
-DrapeReport drape(const Body& body, const GarmentPattern& pattern, const DrapeParams& params,
+DrapeResult drape(const Body& body, const Pattern& pattern, const DrapeParams& params,
                   TriMesh& garment, const DrapeProgressCallback& progress = nullptr,
                   int progress_every = 25);
 

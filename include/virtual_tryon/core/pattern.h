@@ -27,7 +27,7 @@ struct PanelPlacement {
   Eigen::Vector3d place(const Eigen::Vector2d& uv) const;
 };
 
-struct Panel {
+struct PatternPanel {
   std::string name;
   MatrixX2d outline;  // #P by 2, a simple polygon in metres, counter-clockwise
   PanelPlacement placement;
@@ -51,17 +51,17 @@ struct OutlineStretch {
 // A seam sews stretch a to stretch b; the walk along a pairs with the walk along b in order, so
 // the direction of each stretch matters (a.from meets b.from, a.to meets b.to). Both stretches may
 // lie on the same panel (a tube from one panel, a dart).
-struct Seam {
+struct PatternSeam {
   OutlineStretch a, b;
   // Sewing order: a seam pulls only once every seam of a lower stage is welded (0 first). Lets a
   // garment close its body before sleeves are set into the armholes.
   int stage = 0;
 };
 
-struct GarmentPattern {
+struct Pattern {
   std::string name;
-  std::vector<Panel> panels;
-  std::vector<Seam> seams;
+  std::vector<PatternPanel> panels;
+  std::vector<PatternSeam> seams;
 };
 
 // Checks a pattern: at least one panel, outlines of >= 3 finite points, no two outline points in
@@ -71,20 +71,20 @@ struct GarmentPattern {
 // vertices with from != to and not exactly half-way round, and seam stretches whose lengths differ
 // by at most `maxLengthRatio` (longer / shorter). Returns "" when usable, else the first problem:
 // "panel 'front' (index 0): ..." or "seam 2: ...".
-std::string validatePattern(const GarmentPattern& pattern, double maxLengthRatio = 1.5);
+std::string validatePattern(const Pattern& pattern, double maxLengthRatio = 1.5);
 
 // Makes every outline counter-clockwise: a clockwise outline of n points is reversed (point i
 // becomes point n-1-i) and every stretch on it is renumbered the same way (from -> n-1-from,
 // to -> n-1-to), which keeps it on the same points walked in the same direction, so every seam
 // still sews the same points together.
-void normalizePattern(GarmentPattern& pattern);
+void normalizePattern(Pattern& pattern);
 
 // Length of a stretch along its panel's outline (metres); 0 when the stretch is not valid.
-double stretchLength(const GarmentPattern& pattern, const OutlineStretch& s);
+double stretchLength(const Pattern& pattern, const OutlineStretch& s);
 
 // The outline vertex indices a stretch walks through, `from` first and `to` last; empty when the
 // stretch does not name an existing panel and two distinct vertices of its outline.
-std::vector<int> stretchVertices(const GarmentPattern& pattern, const OutlineStretch& s);
+std::vector<int> stretchVertices(const Pattern& pattern, const OutlineStretch& s);
 
 // Signed area of an outline (shoelace): > 0 when counter-clockwise.
 double outlineSignedArea(const MatrixX2d& outline);
@@ -97,9 +97,9 @@ double outlineSignedArea(const MatrixX2d& outline);
 // false is returned; nothing is thrown. readPatternYaml prefixes messages with the file path.
 // patternToYaml writes numbers so that they read back exactly; seams name panels by name when
 // the names are unique and non-empty (else by index).
-bool readPatternYaml(const std::string& path, GarmentPattern& pattern, std::string& error);
-bool parsePatternYaml(const std::string& text, GarmentPattern& pattern, std::string& error);
-std::string patternToYaml(const GarmentPattern& pattern);
+bool readPatternYaml(const std::string& path, Pattern& pattern, std::string& error);
+bool parsePatternYaml(const std::string& text, Pattern& pattern, std::string& error);
+std::string patternToYaml(const Pattern& pattern);
 
 enum class SpringType { Structural = 0, Shear = 1, Flexion = 2 };
 
@@ -124,14 +124,14 @@ struct ClothMesh {
   std::vector<std::array<int, 4>> quads; // grid quads (corners in order round the quad)
   std::vector<Spring> springs;           // structural, shear and flexion
   std::vector<SeamPair> seam_pairs;
-  std::vector<int> seam_stage;           // per pattern seam, its Seam::stage
+  std::vector<int> seam_stage;           // per pattern seam, its PatternSeam::stage
   double spacing = 0;                    // grid spacing used, metres
 };
 
 // Meshes every panel into a regular grid of `spacing` (metres) clipped to its outline: grid
 // nodes inside the outline are kept, quads whose four corners are kept become two triangles, and
 // springs join kept nodes: structural (1 apart in i or j), shear (diagonals), flexion (2 apart).
-// Seam stretches are sampled into pairs of boundary nodes, one pair per node of the stretch that
+// PatternSeam stretches are sampled into pairs of boundary nodes, one pair per node of the stretch that
 // has more. Returns false with `error` when the pattern is invalid or a panel holds no quad at
 // that spacing.
 //
@@ -153,6 +153,6 @@ struct ClothMesh {
 // stretch polyline is sampled at N points evenly by arc length (from `from` to `to`), sample k of
 // a pairs with sample k of b, each mapped to the nearest boundary node of its panel; exact
 // duplicate pairs and pairs of one node are dropped. A seam left with < 2 pairs is an error.
-bool meshPattern(const GarmentPattern& pattern, double spacing, ClothMesh& cloth, std::string& error);
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error);
 
 }  // namespace virtual_tryon

@@ -11,8 +11,8 @@ namespace virtual_tryon {
 
 std::string toJson(const ResolverReport& report);
 std::string toJson(const ReferenceCounts& counts);
-// Every DrapeReport field (units in the key: _m, _s, _m_per_s, _j); the resolver's report nested
+// Every DrapeResult field (units in the key: _m, _s, _m_per_s, _j); the resolver's report nested
 // as "resolver": {...} when it ran, else "resolver": null.
-std::string toJson(const DrapeReport& report);
+std::string toJson(const DrapeResult& report);
 
 }  // namespace virtual_tryon

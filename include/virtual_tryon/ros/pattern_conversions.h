@@ -1,10 +1,9 @@
-// Conversions between virtual_tryon/GarmentPattern messages and the core's GarmentPattern.
-// Plain functions, no state. The message types go by their renamed typedefs (GarmentPatternMsg,
-// PanelMsg, SeamMsg: see msgs.h for why).
+// Conversions between virtual_tryon/GarmentPattern messages (with their Panel and Seam messages)
+// and the core's Pattern (PatternPanel, PatternSeam). Plain functions, no state.
 #pragma once
 
 #include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/ros/msgs.h"
+#include <virtual_tryon/GarmentPattern.h>
 
 #include <geometry_msgs/Pose.h>
 #include <std_msgs/Header.h>
@@ -30,11 +29,11 @@ geometry_msgs::Pose isometryToPose(const Eigen::Isometry3d& pose);
 // ("seam 2: ..."). The geometry is not checked here (outline shape, indices in range, stretch
 // lengths): run validatePattern on the result. On failure `pattern` is left unchanged.
 // The header (frame) is not part of the core pattern; read msg.header.frame_id yourself.
-bool fromMsg(const GarmentPatternMsg& msg, GarmentPattern& pattern, std::string& error);
+bool fromMsg(const GarmentPattern& msg, Pattern& pattern, std::string& error);
 
 // Core -> message with `header`; exact inverse of fromMsg for a pattern with non-negative seam
 // indices (negative ones, which no valid pattern has, become 0).
-GarmentPatternMsg toMsg(const GarmentPattern& pattern, const std_msgs::Header& header);
+GarmentPattern toMsg(const Pattern& pattern, const std_msgs::Header& header);
 
 }  // namespace ros_conversions
 }  // namespace virtual_tryon

@@ -5,7 +5,7 @@
 #include "virtual_tryon/core/collider.h"
 #include "virtual_tryon/core/drape.h"
 #include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/ros/msgs.h"
+#include <virtual_tryon/DrapeReport.h>
 
 #include <virtual_tryon/PenetrationReport.h>
 
@@ -19,7 +19,7 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& report);
 
 // Field-by-field copy (counts clamped to uint32, the resolver report nested); the core report
 // does not record the collision mode, so it is given: collision_mode = collisionModeName(mode).
-DrapeReportMsg toMsg(const DrapeReport& report, CollisionMode mode);
+DrapeReport toMsg(const DrapeResult& report, CollisionMode mode);
 
 // "image" / "object".
 std::string collisionModeName(CollisionMode mode);

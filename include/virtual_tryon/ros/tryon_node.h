@@ -16,7 +16,7 @@
 #include "virtual_tryon/core/mesh.h"
 #include "virtual_tryon/core/pattern.h"
 #include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/ros/msgs.h"  // virtual_tryon::Drape (the drape messages, renamed)
+#include <virtual_tryon/Drape.h>
 
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/ros.h>
