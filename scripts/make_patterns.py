@@ -51,7 +51,7 @@ def outline(points):
     return "[" + ", ".join("[%s, %s]" % (fmt(u), fmt(v)) for u, v in points) + "]"
 
 
-def panel(name, pts, translation, rpy=(0, 0, 0), wrap=0.0, comment=None):
+def panel(name, pts, translation, rpy=(0, 0, 0), wrap=0.0, comment=None, quaternion=None):
     lines = []
     if comment:
         lines.append("  # " + comment)
@@ -59,7 +59,9 @@ def panel(name, pts, translation, rpy=(0, 0, 0), wrap=0.0, comment=None):
     lines.append("    outline: %s" % outline(pts))
     lines.append("    placement:")
     lines.append("      translation: [%s]" % ", ".join(fmt(t) for t in translation))
-    if any(abs(r) > 0 for r in rpy):
+    if quaternion is not None:
+        lines.append("      rotation_quaternion: [%s]" % ", ".join(repr(float(q)) for q in quaternion))
+    elif any(abs(r) > 0 for r in rpy):
         lines.append("      rotation_rpy: [%s]" % ", ".join(repr(float(r)) for r in rpy))
     if wrap > 0:
         lines.append("      wrap_radius: %s" % fmt(wrap))
@@ -165,14 +167,21 @@ def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def rpy_from_axes(x, y, z):
-    """Roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll)) of the rotation whose columns are x y z."""
-    r20, r21, r22 = x[2], y[2], z[2]
-    r10, r00 = x[1], x[0]
-    pitch = math.asin(max(-1.0, min(1.0, -r20)))
-    roll = math.atan2(r21, r22)
-    yaw = math.atan2(r10, r00)
-    return (roll, pitch, yaw)
+def quaternion_from_axes(x, y, z):
+    """[qx, qy, qz, qw] of the rotation whose columns are x, y, z (no gimbal lock, unlike rpy)."""
+    m = [[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]]
+    tr = m[0][0] + m[1][1] + m[2][2]
+    if tr > 0:
+        s = 2 * math.sqrt(tr + 1)
+        return ((m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, s / 4)
+    i = max(range(3), key=lambda k: m[k][k])
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2 * math.sqrt(1 + m[i][i] - m[j][j] - m[k][k])
+    q = [0.0, 0.0, 0.0, (m[k][j] - m[j][k]) / s]
+    q[i] = s / 4
+    q[j] = (m[j][i] + m[i][j]) / s
+    q[k] = (m[k][i] + m[i][k]) / s
+    return tuple(q)
 
 
 def tshirt(L):
@@ -201,7 +210,7 @@ def tshirt(L):
         width = 2 * armhole  # the cap sews to both armholes
         width = min(width, 2 * math.pi * r * 0.98)
         spts = [(-width / 2, 0), (width / 2, 0), (width / 2, length), (0, length), (-width / 2, length)]
-        panels.append(panel("sleeve_" + side, spts, cuff, rpy_from_axes(xc, axis, zc), wrap=r,
+        panels.append(panel("sleeve_" + side, spts, cuff, quaternion=quaternion_from_axes(xc, axis, zc), wrap=r,
                             comment="%s sleeve: wrapped round the upper arm, u = 0 on top, seam underneath" % side))
         name = "sleeve_" + side
         seams.append(seam(name, 1, 2, name, 0, 4, "%s sleeve: underarm seam, cuff to cap" % side))
@@ -248,8 +257,10 @@ def trousers(L):
         t = (t[0] + L["axis_x"], t[1], t[2])
         back_axes = (tuple(-c for c in xc), axis, tuple(-c for c in zc))  # half a turn about the leg
         # Front panels face +z; back panels are turned half a turn, which mirrors u in the world.
-        panels.append(panel("front_" + leg, right if sx > 0 else left, t, rpy_from_axes(xc, axis, zc), wrap=R))
-        panels.append(panel("back_" + leg, left if sx > 0 else right, t, rpy_from_axes(*back_axes), wrap=R))
+        panels.append(panel("front_" + leg, right if sx > 0 else left, t, wrap=R,
+                            quaternion=quaternion_from_axes(xc, axis, zc)))
+        panels.append(panel("back_" + leg, left if sx > 0 else right, t, wrap=R,
+                            quaternion=quaternion_from_axes(*back_axes)))
     seams = [
         seam("front_right", 1, 3, "back_right", 4, 2, "right outseam, hem to waist"),
         seam("front_right", 0, 5, "back_right", 5, 0, "right inseam, hem to crotch"),
