@@ -13,6 +13,9 @@ PACKAGES=(
   ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-shape-msgs ros-pcl-msgs ros-visualization-msgs
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-pcl-msgs python3-visualization-msgs
   libgtest-dev googletest
+  libactionlib-dev libactionlib-msgs-dev ros-actionlib-msgs python3-actionlib python3-actionlib-msgs
+  libpcl-dev python3-matplotlib python3-numpy
+  clang libfuzzer-14-dev
 )
 
 missing=()
