@@ -11,4 +11,4 @@ set +u
 source /opt/ros/*/setup.bash 2>/dev/null || true
 set -u
 JOBS=${VT_JOBS:-$(nproc)}
-catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release -j"$JOBS" "$@"
+catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release -j"$JOBS" "$@"

@@ -243,6 +243,7 @@ DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& par
   // Clean what the collisions let through.
   if (params.resolve) {
     const auto t0 = Clock::now();
+    rep.draped_vertices = garment.V;
     rep.resolver = resolvePenetrations(body, garment, params.resolver);
     rep.resolver_run = true;
     rep.seconds_resolve = since(t0);

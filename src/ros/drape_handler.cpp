@@ -12,6 +12,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace virtual_tryon {
 namespace {
@@ -113,23 +114,86 @@ DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
 }
 
 bool TryonNode::onDrape(virtual_tryon::Drape::Request& req, virtual_tryon::Drape::Response& res) {
+  DrapeInput in;
+  in.body = req.body;
+  in.pattern = req.pattern;
+  in.spacing = req.spacing;
+  in.dt = req.dt;
+  in.collision_mode = req.collision_mode;
+  in.max_iterations = req.max_iterations;
+  in.skip_resolve = req.skip_resolve;
+  DrapeOutput out;
+  ProgressLog log;
+  drapeCaught(in, out, [&log](const DrapeProgress& p) { return log(p); }, /*publish=*/true);
+  res.success = out.success;
+  res.message = out.message;
+  res.garment = std::move(out.garment);
+  res.report = std::move(out.report);
+  return true;  // the call itself worked; the response says why it failed
+}
+
+void TryonNode::onDrapeGoal(const virtual_tryon::DrapeGarmentGoalConstPtr& goal) {
+  DrapeInput in;
+  in.body = goal->body;
+  in.pattern = goal->pattern;
+  in.spacing = goal->spacing;
+  in.dt = goal->dt;
+  in.collision_mode = goal->collision_mode;
+  in.max_iterations = goal->max_iterations;
+  in.skip_resolve = goal->skip_resolve;
+  ProgressLog log;
+  auto progress = [this, &log](const DrapeProgress& p) {
+    virtual_tryon::DrapeGarmentFeedback fb;
+    fb.iteration = static_cast<std::uint32_t>(std::max(0, p.iteration));
+    fb.sewing = p.sewing;
+    fb.seam_gap = p.seam_gap;
+    fb.kinetic_energy = p.kinetic_energy;
+    fb.max_speed = p.max_speed;
+    fb.seconds = p.seconds;
+    drape_action_->publishFeedback(fb);
+    // A cancel, a newer goal (which preempts this one) or shutdown stops the drape.
+    return log(p) && !drape_action_->isPreemptRequested();
+  };
+  DrapeOutput out;
+  drapeCaught(in, out, progress, /*publish=*/true);
+  virtual_tryon::DrapeGarmentResult result;
+  result.success = out.success;
+  result.message = out.message;
+  result.garment = std::move(out.garment);
+  result.report = std::move(out.report);
+  if (result.report.cancelled || drape_action_->isPreemptRequested())
+    drape_action_->setPreempted(result, result.message);
+  else if (result.success)
+    drape_action_->setSucceeded(result, result.message);
+  else
+    drape_action_->setAborted(result, result.message);
+}
+
+void TryonNode::drapeCaught(const DrapeInput& in, DrapeOutput& out,
+                            const DrapeProgressCallback& progress, bool publish) {
   std::string error;
   try {
-    if (drape(req, res, error)) return true;
+    if (drape(in, out, progress, publish, error)) return;
   } catch (const std::exception& e) {
     error = std::string("internal error: ") + e.what();
   } catch (...) {
     error = "internal error (unknown exception)";
   }
-  res = virtual_tryon::Drape::Response();
-  res.success = false;
-  res.message = error;
+  out = DrapeOutput();
+  out.success = false;
+  out.message = error;
   ROS_WARN_STREAM("tryon_node: drape failed: " << error);
-  return true;  // the call itself worked; the response says why it failed
+  if (publish) {
+    virtual_tryon::FitReport fit;
+    fit.kind = "drape";
+    fit.success = false;
+    fit.message = error;
+    publishFit(fit, out.garment);
+  }
 }
 
-bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
-                      virtual_tryon::Drape::Response& res, std::string& error) {
+bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgressCallback& progress,
+                      bool publish, std::string& error) {
   // Parameters: zero / empty request fields keep the node's.
   DrapeParams params = settings_.drape;
   if (req.spacing != 0) params.spacing = req.spacing;
@@ -167,17 +231,25 @@ bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
 
   const int rendersBefore = body.body->depthMapRenders();
   TriMesh garment;
-  ProgressLog progress;
-  const DrapeResult report = virtual_tryon::drape(
-      *body.body, pattern, params, garment,
-      [&progress](const DrapeProgress& p) { return progress(p); });
+  const DrapeResult report =
+      virtual_tryon::drape(*body.body, pattern, params, garment, progress);
   const bool rendered = body.body->depthMapRenders() > rendersBefore;
 
   res.success = report.success;
   res.report = rc::toMsg(report, params.mode);
+  res.report.body = body.report;
   res.message = report.message;
+  virtual_tryon::FitReport fit;
+  fit.kind = "drape";
+  fit.body = body.report;
   if (!report.success) {
     ROS_WARN_STREAM("tryon_node: drape failed: " << report.message);
+    if (publish) {
+      fit.success = false;
+      fit.message = res.message;
+      fit.drape = res.report;
+      publishFit(fit, res.garment);
+    }
     return true;
   }
   if (params.mode == CollisionMode::ImageSpace)
@@ -196,8 +268,16 @@ bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
   if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
   for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
 
-  fitted_pub_.publish(res.garment);
-  publishMarkers(body.body->mesh(), body.frame, &garment);
+  if (publish) {
+    fit.header = header;
+    fit.success = true;
+    fit.message = res.message;
+    fit.drape = res.report;
+    publishFit(fit, res.garment);
+    publishMarkers(body.body->mesh(), body.frame, &garment,
+                   report.draped_vertices.rows() == garment.V.rows() ? &report.draped_vertices
+                                                                      : nullptr);
+  }
   return true;
 }
 

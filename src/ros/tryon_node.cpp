@@ -76,15 +76,6 @@ std::string seconds(double s) {
   return buf;
 }
 
-std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
-  std_msgs::ColorRGBA c;
-  c.r = r;
-  c.g = g;
-  c.b = b;
-  c.a = a;
-  return c;
-}
-
 std::string summary(const ResolverReport& r) {
   char buf[320];
   if (r.converged)
@@ -105,18 +96,36 @@ std::string summary(const ResolverReport& r) {
 }  // namespace
 
 TryonNode::TryonNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-    : nh_(std::move(nh)), pnh_(std::move(pnh)), tf_listener_(tf_buffer_) {
+    : nh_(std::move(nh)),
+      pnh_(std::move(pnh)),
+      tf_listener_(tf_buffer_),
+      jobs_([](const std::string& what) {
+        ROS_ERROR_STREAM("tryon_node: background job failed: " << what);
+      }) {
   readParameters();
   fitted_pub_ = pnh_.advertise<pcl_msgs::PolygonMesh>("fitted_garment", 1, /*latch=*/true);
   markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1, /*latch=*/true);
-  body_sub_ = pnh_.subscribe("body_mesh", 1, &TryonNode::onBody, this);
-  garment_sub_ = pnh_.subscribe("garment_mesh", 1, &TryonNode::onGarment, this);
+  body_pub_ = pnh_.advertise<pcl_msgs::PolygonMesh>("body", 1, /*latch=*/true);
+  body_report_pub_ = pnh_.advertise<virtual_tryon::BodyReport>("body_report", 1, /*latch=*/true);
+  fit_report_pub_ = pnh_.advertise<virtual_tryon::FitReport>("fit_report", 4, /*latch=*/true);
+  // Queues of a few messages: a bag replayed fast must not drop a body or a garment.
+  body_sub_ = pnh_.subscribe("body_mesh", 2, &TryonNode::onBody, this);
+  scan_sub_ = pnh_.subscribe("body_scan", 2, &TryonNode::onScan, this);
+  garment_sub_ = pnh_.subscribe("garment_mesh", 4, &TryonNode::onGarment, this);
+  pattern_sub_ = pnh_.subscribe("garment_pattern", 4, &TryonNode::onPattern, this);
   resolve_srv_ = pnh_.advertiseService("resolve_penetration", &TryonNode::onResolve, this);
   drape_srv_ = pnh_.advertiseService("drape", &TryonNode::onDrape, this);
+  drape_action_ = std::make_unique<actionlib::SimpleActionServer<virtual_tryon::DrapeGarmentAction>>(
+      pnh_, "drape_action", [this](const virtual_tryon::DrapeGarmentGoalConstPtr& g) { onDrapeGoal(g); },
+      /*auto_start=*/false);
+  drape_action_->start();
   ROS_INFO_STREAM("tryon_node: ready; services " << resolve_srv_.getService() << ", "
-                                                 << drape_srv_.getService() << ", topics "
-                                                << body_sub_.getTopic() << ", "
-                                                << garment_sub_.getTopic());
+                                                 << drape_srv_.getService() << ", action "
+                                                 << pnh_.resolveName("drape_action") << ", topics "
+                                                 << body_sub_.getTopic() << ", " << scan_sub_.getTopic()
+                                                 << ", " << garment_sub_.getTopic() << ", "
+                                                 << pattern_sub_.getTopic() << "; auto_fit "
+                                                 << (settings_.auto_fit ? "on" : "off"));
 }
 
 void TryonNode::readParameters() {
@@ -130,6 +139,17 @@ void TryonNode::readParameters() {
   pnh_.param("push_out_inside", p.push_out_inside, d.push_out_inside);
   settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
   pnh_.param("body_frame", settings_.body_frame, std::string());
+  pnh_.param("auto_fit", settings_.auto_fit, false);
+  const ScanMeshingParams sd;
+  settings_.scan.voxel_size = readDouble(pnh_, "scan/voxel_size", sd.voxel_size, false);
+  settings_.scan.normal_neighbours = readCount(pnh_, "scan/normal_neighbours", sd.normal_neighbours);
+  settings_.scan.depth = readCount(pnh_, "scan/depth", sd.depth);
+  const std::string scanProblem = validateScanMeshingParams(settings_.scan);
+  if (!scanProblem.empty()) {
+    ROS_WARN_STREAM("tryon_node: ~scan/ parameters are invalid: " << scanProblem
+                                                                 << "; using the defaults");
+    settings_.scan = sd;
+  }
   settings_.drape = readDrapeParameters(pnh_, settings_.resolver);
 }
 
@@ -146,52 +166,6 @@ bool TryonNode::bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame,
   return true;
 }
 
-void TryonNode::onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
-  try {
-    TriMesh mesh;
-    std::string frame, error;
-    if (!meshFromMsg(*msg, "body", mesh, error) || !bodyFrame(*msg, frame, error)) {
-      ROS_ERROR_STREAM("tryon_node: rejected message on " << body_sub_.getTopic() << ": " << error
-                                                          << " (keeping the previous body)");
-      return;
-    }
-    auto body = std::make_shared<const Body>(std::move(mesh));
-    body->bvh();  // build it now, once, instead of in the first service call
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      topic_body_ = BodyState{body, frame};
-    }
-    ROS_INFO_STREAM("tryon_node: body received (" << body->mesh().numVertices() << " vertices, "
-                                                  << body->mesh().numFaces() << " faces, frame '"
-                                                  << frame << "', "
-                                                  << (body->closed() ? "closed" : "open") << ")");
-    publishMarkers(body->mesh(), frame, nullptr);
-  } catch (const std::exception& e) {
-    ROS_ERROR_STREAM("tryon_node: failed to process the body message: " << e.what());
-  }
-}
-
-void TryonNode::onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
-  try {
-    auto mesh = std::make_shared<TriMesh>();
-    std::string error;
-    if (!meshFromMsg(*msg, "garment", *mesh, error)) {
-      ROS_ERROR_STREAM("tryon_node: rejected message on " << garment_sub_.getTopic() << ": "
-                                                          << error << " (keeping the previous garment)");
-      return;
-    }
-    std_msgs::Header header = msg->header;
-    header.frame_id = frameOf(*msg);
-    ROS_INFO_STREAM("tryon_node: garment received (" << mesh->numVertices() << " vertices, "
-                                                     << mesh->numFaces() << " faces, frame '"
-                                                     << header.frame_id << "')");
-    std::lock_guard<std::mutex> lock(mutex_);
-    topic_garment_ = GarmentState{std::move(mesh), header};
-  } catch (const std::exception& e) {
-    ROS_ERROR_STREAM("tryon_node: failed to process the garment message: " << e.what());
-  }
-}
-
 bool TryonNode::onResolve(virtual_tryon::ResolvePenetration::Request& req,
                           virtual_tryon::ResolvePenetration::Response& res) {
   std::string error;
@@ -205,6 +179,11 @@ bool TryonNode::onResolve(virtual_tryon::ResolvePenetration::Request& req,
   res.success = false;
   res.message = error;
   ROS_WARN_STREAM("tryon_node: resolve_penetration failed: " << error);
+  virtual_tryon::FitReport fit;
+  fit.kind = "resolve";
+  fit.success = false;
+  fit.message = error;
+  publishFit(fit, res.garment);
   return true;  // the call itself worked; the response says why it failed
 }
 
@@ -223,16 +202,24 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
   if (!meshFromMsg(msg, "body", mesh, error) || !bodyFrame(msg, out.frame, error)) return false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& cached : {topic_body_.body, request_body_})
-      if (cached && sameMesh(cached->mesh(), mesh)) {
-        out.body = cached;
-        return true;
-      }
+    if (topic_body_.body && sameMesh(topic_body_.body->mesh(), mesh)) {
+      out.body = topic_body_.body;
+      out.report = topic_body_.report;
+      return true;
+    }
+    if (request_body_.body && sameMesh(request_body_.body->mesh(), mesh)) {
+      out.body = request_body_.body;
+      out.report = request_body_.report;
+      return true;
+    }
   }
-  auto body = std::make_shared<const Body>(std::move(mesh));
+  out.report.source = "mesh";
+  if (!inspectBody(mesh, out.report, error)) return false;
+  if (out.report.flipped)
+    ROS_WARN_STREAM("tryon_node: the request's body arrived inverted and was flipped");
+  out.body = std::make_shared<const Body>(std::move(mesh));
   std::lock_guard<std::mutex> lock(mutex_);
-  request_body_ = body;
-  out.body = std::move(body);
+  request_body_ = out;
   return true;
 }
 
@@ -290,6 +277,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
 
+  const MatrixX3d before = garment.V;
   const ResolverReport report = resolvePenetrations(*body.body, garment, params);
 
   std_msgs::Header header;
@@ -297,6 +285,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   header.stamp = ros::Time::now();
   rc::toMsg(garment, header, res.garment);
   res.report = rc::toMsg(report);
+  res.report.body = body.report;
   res.success = report.converged;
   res.message = summary(report);
   ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
@@ -306,28 +295,16 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
            report.iterations, report.seconds_total, report.converged ? "converged" : "NOT converged");
   if (!report.converged) ROS_WARN_STREAM("tryon_node: " << res.message);
 
-  fitted_pub_.publish(res.garment);
-  publishMarkers(body.body->mesh(), body.frame, &garment);
+  virtual_tryon::FitReport fit;
+  fit.header = header;
+  fit.kind = "resolve";
+  fit.success = res.success;
+  fit.message = res.message;
+  fit.body = body.report;
+  fit.resolve = res.report;
+  publishFit(fit, res.garment);
+  publishMarkers(body.body->mesh(), body.frame, &garment, &before);
   return true;
-}
-
-void TryonNode::publishMarkers(const TriMesh& body, const std::string& frame,
-                               const TriMesh* garment) {
-  visualization_msgs::MarkerArray array;
-  array.markers.push_back(
-      rc::toTriangleListMarker(body, frame, "body", 0, rgba(0.6f, 0.6f, 0.6f, 0.4f)));
-  if (garment) {
-    array.markers.push_back(
-        rc::toTriangleListMarker(*garment, frame, "garment", 1, rgba(0.15f, 0.45f, 0.85f, 1.0f)));
-  } else {  // a new body: the garment fitted to the previous one no longer applies
-    visualization_msgs::Marker del;
-    del.header.frame_id = frame;
-    del.ns = "garment";
-    del.id = 1;
-    del.action = visualization_msgs::Marker::DELETE;
-    array.markers.push_back(del);
-  }
-  markers_pub_.publish(array);
 }
 
 }  // namespace virtual_tryon

@@ -7,6 +7,7 @@
 #include "virtual_tryon/core/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 
+#include "fixtures.h"
 #include "marker_wait.h"
 
 #include <gtest/gtest.h>
@@ -35,14 +36,7 @@ namespace {
 
 const std::string kService = "/tryon_node/resolve_penetration";
 
-pcl_msgs::PolygonMesh toMsg(const vt::TriMesh& mesh, const std::string& frame) {
-  std_msgs::Header h;
-  h.frame_id = frame;
-  h.stamp = ros::Time::now();
-  pcl_msgs::PolygonMesh msg;
-  rc::toMsg(mesh, h, msg);
-  return msg;
-}
+using virtual_tryon_test::toMsg;
 
 // Calls the service; gtest assertion failures when the service is not there or the call fails.
 ResolvePenetration::Response call(const pcl_msgs::PolygonMesh& body,

@@ -74,6 +74,9 @@ struct DrapeResult {
   std::size_t penetrating_before_resolve = 0, penetrating_after = 0;
   bool resolver_run = false;
   ResolverReport resolver;
+  // #V by 3: the garment as draped, before the resolver pass moved it (empty when it did not run),
+  // so that a viewer can show what the resolver moved.
+  MatrixX3d draped_vertices;
 };
 
 // Drapes `pattern` on `body`; the result (welded, one mesh) goes to `garment` even when not

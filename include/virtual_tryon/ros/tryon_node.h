@@ -1,14 +1,20 @@
-// The ROS face of the penetration resolver and the drape: topics for the latest body and garment,
-// a service that resolves a garment against a body, a service that drapes a garment given by its
-// cutting patterns, latched results for RViz. All algorithms live in the core; this class only
-// converts messages, reads parameters, transforms frames and keeps state. The drape service's
-// code is in src/ros/drape_handler.cpp.
+// The ROS face of the penetration resolver and the drape: topics for the latest body (a mesh, or a
+// raw scan meshed here) and garment (a mesh or a pattern), a service that resolves a garment
+// against a body, a service and an action that drape a garment given by its cutting patterns,
+// automatic fits (~auto_fit), latched results for RViz. All algorithms live in the core; this
+// class only converts messages, reads parameters, transforms frames and keeps state. Its code is
+// split by role: tryon_node.cpp (set-up, parameters, frames, ~resolve_penetration),
+// body_input.cpp (~body_mesh, ~body_scan), auto_fit.cpp (garments in, automatic fits out),
+// drape_handler.cpp (~drape, ~drape_action), publishing.cpp (latched outputs).
 //
-// Threading: every callback may run on any spinner thread. The shared state (latest body,
-// latest garment, cached request body) is a set of pointers to immutable objects swapped under
-// `mutex_`; a resolve copies what it needs under the lock and works without it, so a long resolve
-// never blocks the topics and two resolves may run at once (the Body's BVH and depth maps are built
-// thread-safely and cached inside the Body, so repeated drapes on one body render the maps once).
+// Threading: callbacks only convert and queue. Long work (meshing a scan, checking a body,
+// automatic fits) runs on one worker thread (LatestJobQueue: a newer body replaces a waiting one,
+// a newer garment of the same kind replaces a waiting one; a running job finishes). Services run on
+// the spinner's threads, so two requests may run at once and neither blocks the topics; the action
+// runs on its own thread, and a new goal preempts (cancels) the running one. Shared state (latest
+// body, garments, cached request body) is a set of pointers to immutable objects swapped under
+// `mutex_`; work copies what it needs under the lock and runs without it. A Body's BVH and depth
+// maps are built lazily, thread-safely, once, inside the Body.
 #pragma once
 
 #include "virtual_tryon/core/body.h"
@@ -16,7 +22,16 @@
 #include "virtual_tryon/core/mesh.h"
 #include "virtual_tryon/core/pattern.h"
 #include "virtual_tryon/core/penetration_resolver.h"
+#include "virtual_tryon/core/scan_meshing.h"
+#include "virtual_tryon/ros/job_queue.h"
+#include <virtual_tryon/BodyReport.h>
 #include <virtual_tryon/Drape.h>
+#include <virtual_tryon/DrapeGarmentAction.h>
+#include <virtual_tryon/FitReport.h>
+#include <virtual_tryon/GarmentPattern.h>
+
+#include <actionlib/server/simple_action_server.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/ros.h>
@@ -25,6 +40,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <virtual_tryon/ResolvePenetration.h>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -44,36 +60,78 @@ class TryonNode {
   struct Settings {
     ResolverParams resolver;
     DrapeParams drape;  // its resolver part is `resolver`
+    ScanMeshingParams scan;
     double tf_timeout = 0.5;  // seconds
     std::string body_frame;   // "" = the body message's frame_id (fallback "body")
+    bool auto_fit = false;    // fit each new body / garment on the worker and publish the result
   };
 
-  // A body with its frame; the Body (and its BVH) is shared, never modified.
+  // A body with its frame and what was found in it; the Body (and its BVH) is shared, never
+  // modified.
   struct BodyState {
     std::shared_ptr<const Body> body;
     std::string frame;
+    virtual_tryon::BodyReport report;
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
     std_msgs::Header header;
   };
+  struct PatternState {
+    std::shared_ptr<const virtual_tryon::GarmentPattern> msg;
+  };
+  // What a drape needs from a request or a goal.
+  struct DrapeInput {
+    pcl_msgs::PolygonMesh body;
+    virtual_tryon::GarmentPattern pattern;
+    double spacing = 0, dt = 0;
+    std::string collision_mode;
+    std::uint32_t max_iterations = 0;
+    bool skip_resolve = false;
+  };
+  // What a drape gives back (the service response and the action result have these fields).
+  struct DrapeOutput {
+    bool success = false;
+    std::string message;
+    pcl_msgs::PolygonMesh garment;
+    virtual_tryon::DrapeReport report;
+  };
 
   void readParameters();
   // Reads the drape/ parameters over DrapeParams' defaults (drape_handler.cpp).
   static DrapeParams readDrapeParameters(const ros::NodeHandle& pnh, const ResolverParams& resolver);
+  // body_input.cpp: callbacks queue; the jobs check, mesh and install the body.
   void onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg);
+  void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  void installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg);
+  void installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
+  // Checks (and flips if inverted) `mesh`, fills `report`; false with `error` when unusable.
+  static bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::string& error);
+  void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report);
+
+  // auto_fit.cpp
   void onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg);
+  void onPattern(const virtual_tryon::GarmentPattern::ConstPtr& msg);
+  void postFits();  // queues a fit for each garment kind received so far (auto_fit)
+  void fitGarmentMesh();
+  void fitPattern();
   bool onResolve(virtual_tryon::ResolvePenetration::Request& req,
                  virtual_tryon::ResolvePenetration::Response& res);
 
   // The service's work; returns false with `error` set on bad input. May throw (caught by onResolve).
   bool resolve(const virtual_tryon::ResolvePenetration::Request& req,
                virtual_tryon::ResolvePenetration::Response& res, std::string& error);
+  // drape_handler.cpp
   bool onDrape(virtual_tryon::Drape::Request& req, virtual_tryon::Drape::Response& res);
-  // The drape service's work; false with `error` on bad input, before draping. A drape that ran
-  // returns true even when it failed (res.success = report.success). May throw (caught by onDrape).
-  bool drape(const virtual_tryon::Drape::Request& req, virtual_tryon::Drape::Response& res,
-             std::string& error);
+  void onDrapeGoal(const virtual_tryon::DrapeGarmentGoalConstPtr& goal);
+  // A drape, caught: never throws; out.success=false with the message on bad input or error.
+  // `progress` (may be empty) is called every few iterations; returning false cancels.
+  void drapeCaught(const DrapeInput& in, DrapeOutput& out, const DrapeProgressCallback& progress,
+                   bool publish);
+  // The drape's work; false with `error` on bad input, before draping. A drape that ran returns
+  // true even when it failed (out.success = report.success). May throw.
+  bool drape(const DrapeInput& in, DrapeOutput& out, const DrapeProgressCallback& progress,
+             bool publish, std::string& error);
 
   // Body for a request: the topic body when the request's is empty, else a Body built from the
   // request (or a cached one when its geometry is identical).
@@ -90,7 +148,12 @@ class TryonNode {
   // The frame a body message is in, after ~body_frame; false when they conflict.
   bool bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame, std::string& error) const;
 
-  void publishMarkers(const TriMesh& body, const std::string& frame, const TriMesh* garment);
+  // publishing.cpp. `before` (#V by 3, may be empty): the garment's vertices before the fit, for
+  // the moved-vertex points.
+  void publishMarkers(const TriMesh& body, const std::string& frame, const TriMesh* garment,
+                      const MatrixX3d* before = nullptr);
+  void publishBody(const BodyState& body);
+  void publishFit(const virtual_tryon::FitReport& report, const pcl_msgs::PolygonMesh& garment);
 
   ros::NodeHandle nh_, pnh_;
   Settings settings_;  // written once in the constructor, read-only afterwards
@@ -98,14 +161,21 @@ class TryonNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
 
-  ros::Subscriber body_sub_, garment_sub_;
-  ros::Publisher fitted_pub_, markers_pub_;
+  ros::Subscriber body_sub_, scan_sub_, garment_sub_, pattern_sub_;
+  ros::Publisher fitted_pub_, markers_pub_, body_pub_, body_report_pub_, fit_report_pub_;
   ros::ServiceServer resolve_srv_, drape_srv_;
+  std::unique_ptr<actionlib::SimpleActionServer<virtual_tryon::DrapeGarmentAction>> drape_action_;
 
-  std::mutex mutex_;          // guards the three members below
-  BodyState topic_body_;      // latest valid body from ~body_mesh
+  std::mutex mutex_;          // guards the members below
+  BodyState topic_body_;      // latest valid body from ~body_mesh or ~body_scan
   GarmentState topic_garment_;  // latest valid garment from ~garment_mesh
-  std::shared_ptr<const Body> request_body_;  // last body built from a request, reused when equal
+  PatternState topic_pattern_;  // latest valid pattern from ~garment_pattern
+  BodyState request_body_;  // last body built from a request, reused when equal
+  std::uint64_t last_scan_hash_ = 0;  // of the last scan meshed (an unchanged scan is skipped)
+
+  std::mutex publish_mutex_;  // one publisher at a time: ~fitted_garment, ~fit_report, ~markers agree
+
+  LatestJobQueue jobs_;  // last: its thread stops first when the node is destroyed
 };
 
 }  // namespace virtual_tryon

@@ -1,0 +1,118 @@
+// TryonNode's garment inputs and automatic fits. ~garment_mesh and ~garment_pattern store the
+// latest garment of each kind; with ~auto_fit, a new garment, or a new body, queues a fit on the
+// worker: a garment mesh is resolved, a pattern is draped, and the result goes to the latched
+// outputs (so a bag replay needs no service call). A waiting fit of one kind is replaced by a newer
+// one of the same kind; fits of the two kinds are kept apart, so neither is lost.
+#include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/pattern_conversions.h"
+#include "virtual_tryon/ros/tryon_node.h"
+
+#include <exception>
+#include <string>
+#include <utility>
+
+namespace virtual_tryon {
+namespace {
+
+namespace rc = ros_conversions;
+
+std::string frameOf(const pcl_msgs::PolygonMesh& msg) {
+  return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
+}
+
+}  // namespace
+
+void TryonNode::onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
+  try {
+    auto mesh = std::make_shared<TriMesh>();
+    std::string error;
+    if (rc::fromMsg(*msg, *mesh, error)) {
+      const MeshValidation v = validate(*mesh, "garment");
+      if (!v.ok) error = v.message;
+    } else {
+      error = "garment: " + error;
+    }
+    if (!error.empty()) {
+      ROS_ERROR_STREAM("tryon_node: rejected message on " << garment_sub_.getTopic() << ": "
+                                                          << error << " (keeping the previous garment)");
+      return;
+    }
+    std_msgs::Header header = msg->header;
+    header.frame_id = frameOf(*msg);
+    ROS_INFO_STREAM("tryon_node: garment received (" << mesh->numVertices() << " vertices, "
+                                                     << mesh->numFaces() << " faces, frame '"
+                                                     << header.frame_id << "')");
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      topic_garment_ = GarmentState{std::move(mesh), header};
+    }
+    if (settings_.auto_fit) jobs_.post("fit mesh", [this] { fitGarmentMesh(); });
+  } catch (const std::exception& e) {
+    ROS_ERROR_STREAM("tryon_node: failed to process the garment message: " << e.what());
+  }
+}
+
+void TryonNode::onPattern(const virtual_tryon::GarmentPattern::ConstPtr& msg) {
+  try {
+    Pattern pattern;
+    std::string error;
+    if (!rc::fromMsg(*msg, pattern, error) || !(error = validatePattern(pattern)).empty()) {
+      ROS_ERROR_STREAM("tryon_node: rejected message on " << pattern_sub_.getTopic()
+                                                          << ": pattern: " << error
+                                                          << " (keeping the previous pattern)");
+      return;
+    }
+    ROS_INFO_STREAM("tryon_node: pattern '" << pattern.name << "' received ("
+                                            << pattern.panels.size() << " panels, "
+                                            << pattern.seams.size() << " seams)");
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      topic_pattern_.msg = std::make_shared<const virtual_tryon::GarmentPattern>(*msg);
+    }
+    if (settings_.auto_fit) jobs_.post("fit pattern", [this] { fitPattern(); });
+  } catch (const std::exception& e) {
+    ROS_ERROR_STREAM("tryon_node: failed to process the pattern message: " << e.what());
+  }
+}
+
+void TryonNode::postFits() {
+  bool mesh = false, pattern = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    mesh = static_cast<bool>(topic_garment_.mesh);
+    pattern = static_cast<bool>(topic_pattern_.msg);
+  }
+  if (mesh) jobs_.post("fit mesh", [this] { fitGarmentMesh(); });
+  if (pattern) jobs_.post("fit pattern", [this] { fitPattern(); });
+}
+
+void TryonNode::fitGarmentMesh() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!topic_body_.body) {
+      ROS_INFO("tryon_node: auto_fit: garment mesh waiting for a body");
+      return;
+    }
+  }
+  // The service's path with an empty request: the latest body and garment.
+  virtual_tryon::ResolvePenetration::Request req;
+  virtual_tryon::ResolvePenetration::Response res;
+  onResolve(req, res);
+}
+
+void TryonNode::fitPattern() {
+  DrapeInput in;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!topic_body_.body) {
+      ROS_INFO("tryon_node: auto_fit: pattern waiting for a body");
+      return;
+    }
+    if (!topic_pattern_.msg) return;
+    in.pattern = *topic_pattern_.msg;
+  }
+  DrapeOutput out;
+  drapeCaught(in, out, nullptr, /*publish=*/true);
+}
+
+}  // namespace virtual_tryon

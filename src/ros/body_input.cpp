@@ -1,0 +1,195 @@
+// TryonNode's body inputs: ~body_mesh (a meshed scan) and ~body_scan (a raw scan, meshed here with
+// PCL). The callbacks only queue; the worker converts, checks (closed, orientation, degenerate
+// faces), flips an inverted body, and installs the body. An unchanged body or scan costs a
+// comparison. The rest of the node is in tryon_node.cpp.
+#include "virtual_tryon/core/body_check.h"
+#include "virtual_tryon/core/scan_meshing.h"
+#include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/tryon_node.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <utility>
+
+namespace virtual_tryon {
+namespace {
+
+namespace rc = ros_conversions;
+
+// FNV-1a over the geometry of a scan: its layout and its bytes (not its header).
+std::uint64_t scanHash(const sensor_msgs::PointCloud2& c) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  const std::uint32_t dims[4] = {c.width, c.height, c.point_step, c.row_step};
+  mix(dims, sizeof dims);
+  for (const auto& f : c.fields) {
+    mix(f.name.data(), f.name.size());
+    mix(&f.offset, sizeof f.offset);
+    mix(&f.datatype, sizeof f.datatype);
+  }
+  mix(c.data.data(), c.data.size());
+  return h;
+}
+
+// The scan's normal_x/y/z as #P by 3 (empty when the scan has none).
+bool scanNormals(const sensor_msgs::PointCloud2& cloud, MatrixX3d& N, std::string& error) {
+  const char* names[3] = {"normal_x", "normal_y", "normal_z"};
+  int found = 0;
+  for (const auto& f : cloud.fields)
+    for (const char* n : names) found += f.name == n;
+  if (found == 0) {
+    N.resize(0, 3);
+    return true;
+  }
+  if (found != 3) {
+    error = "scan has some but not all of normal_x, normal_y, normal_z";
+    return false;
+  }
+  // Read them with the x/y/z reader: a copy of the cloud whose normal fields carry the x/y/z names.
+  sensor_msgs::PointCloud2 renamed = cloud;
+  renamed.fields.clear();
+  for (const auto& f : cloud.fields) {
+    sensor_msgs::PointField g = f;
+    if (f.name == "normal_x") g.name = "x";
+    else if (f.name == "normal_y") g.name = "y";
+    else if (f.name == "normal_z") g.name = "z";
+    else continue;
+    renamed.fields.push_back(g);
+  }
+  if (!rc::pointCloudToVertices(renamed, N, error)) {
+    error = "scan normals: " + error;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::string& error) {
+  const BodyCheck check = orientBody(mesh);
+  report.vertices = static_cast<std::uint32_t>(mesh.numVertices());
+  report.faces = static_cast<std::uint32_t>(mesh.numFaces());
+  report.closed = check.closed;
+  report.boundary_edges = static_cast<std::uint32_t>(check.boundary_edges);
+  report.non_manifold_edges = static_cast<std::uint32_t>(check.non_manifold_edges);
+  report.degenerate_faces = static_cast<std::uint32_t>(check.degenerate_faces);
+  report.components = static_cast<std::uint32_t>(check.pieces);
+  report.signed_volume = check.signed_volume;
+  report.flipped = check.flipped;
+  report.summary = check.summary;
+  if (!check.ok) {
+    error = "body: " + check.message;
+    return false;
+  }
+  return true;
+}
+
+void TryonNode::onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
+  jobs_.post("body", [this, msg] { installBodyFromMesh(msg); });
+}
+
+void TryonNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  jobs_.post("body", [this, msg] { installBodyFromScan(msg); });
+}
+
+void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
+  TriMesh mesh;
+  std::string frame, error;
+  virtual_tryon::BodyReport report;
+  report.source = "mesh";
+  if (!rc::fromMsg(*msg, mesh, error)) error = "body: " + error;
+  else if (bodyFrame(*msg, frame, error)) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (topic_body_.body && topic_body_.frame == frame && topic_body_.report.source == "mesh" &&
+          topic_body_.report.flipped == false && topic_body_.body->mesh().V == mesh.V &&
+          topic_body_.body->mesh().F == mesh.F) {
+        ROS_DEBUG("tryon_node: body on %s unchanged; nothing to do", body_sub_.getTopic().c_str());
+        return;
+      }
+    }
+    const MeshValidation v = validate(mesh, "body");
+    if (!v.ok) error = v.message;
+    else if (inspectBody(mesh, report, error)) {
+      installBody(std::move(mesh), frame, std::move(report));
+      return;
+    }
+  }
+  ROS_ERROR_STREAM("tryon_node: rejected message on " << body_sub_.getTopic() << ": " << error
+                                                      << " (keeping the previous body)");
+}
+
+void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+  const std::uint64_t hash = scanHash(*msg);
+  std::string frame = settings_.body_frame.empty() ? msg->header.frame_id : settings_.body_frame;
+  if (frame.empty()) frame = "body";
+  std::string error;
+  if (!settings_.body_frame.empty() && !msg->header.frame_id.empty() &&
+      msg->header.frame_id != settings_.body_frame) {
+    error = "scan is in frame '" + msg->header.frame_id + "' but ~body_frame is '" +
+            settings_.body_frame + "'";
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (error.empty() && hash == last_scan_hash_ && topic_body_.body &&
+        topic_body_.report.source == "scan") {
+      ROS_DEBUG("tryon_node: scan on %s unchanged; nothing to do", scan_sub_.getTopic().c_str());
+      return;
+    }
+  }
+  MatrixX3d points, normals;
+  if (error.empty() && rc::pointCloudToVertices(*msg, points, error) &&
+      scanNormals(*msg, normals, error)) {
+    const ScanMeshingResult scan = meshScan(points, normals, settings_.scan);
+    if (!scan.success) {
+      error = "scan: " + scan.message;
+    } else {
+      TriMesh mesh = scan.mesh;
+      virtual_tryon::BodyReport report;
+      report.source = "scan";
+      report.scan_points = static_cast<std::uint32_t>(scan.input_points);
+      report.scan_points_used = static_cast<std::uint32_t>(scan.points_after_downsampling);
+      report.normals_estimated = scan.normals_estimated;
+      report.seconds_meshing = scan.seconds_total;
+      if (inspectBody(mesh, report, error)) {
+        ROS_INFO("tryon_node: scan meshed: %zu points (%zu used), %s, %.2f s",
+                 static_cast<std::size_t>(scan.input_points), static_cast<std::size_t>(scan.points_after_downsampling),
+                 scan.normals_estimated ? "normals estimated" : "normals from the scan",
+                 scan.seconds_total);
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          last_scan_hash_ = hash;
+        }
+        installBody(std::move(mesh), frame, std::move(report));
+        return;
+      }
+    }
+  }
+  ROS_ERROR_STREAM("tryon_node: rejected message on " << scan_sub_.getTopic() << ": " << error
+                                                      << " (keeping the previous body)");
+}
+
+void TryonNode::installBody(TriMesh mesh, const std::string& frame,
+                            virtual_tryon::BodyReport report) {
+  BodyState state;
+  state.body = std::make_shared<const Body>(std::move(mesh));  // BVH and maps: lazily, when needed
+  state.frame = frame;
+  state.report = std::move(report);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    topic_body_ = state;
+  }
+  if (state.report.flipped)
+    ROS_WARN_STREAM("tryon_node: the body arrived inverted (inward normals) and was flipped");
+  ROS_INFO_STREAM("tryon_node: body from " << state.report.source << " in frame '" << frame
+                                           << "': " << state.report.summary);
+  publishBody(state);
+  if (settings_.auto_fit) postFits();
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,174 @@
+// rostest: the demo bag (a raw scan of the procedural body, a garment mesh placed with
+// penetrations, a skirt pattern) is replayed into tryon_node with auto_fit on and no service
+// call. The node must mesh the scan into a closed, outward body, resolve the garment mesh and drape
+// the pattern, and publish both fits, latched, with zero crossings by a brute-force count, plus
+// the markers.
+#include "marker_wait.h"
+#include "virtual_tryon/core/mesh.h"
+#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/ros/conversions.h"
+
+#include <gtest/gtest.h>
+#include <pcl_msgs/PolygonMesh.h>
+#include <ros/ros.h>
+#include <virtual_tryon/BodyReport.h>
+#include <virtual_tryon/FitReport.h>
+
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace vt = virtual_tryon;
+
+namespace {
+
+// Everything the node publishes, collected from the start of the replay.
+struct Collector {
+  std::mutex m;
+  pcl_msgs::PolygonMesh::ConstPtr body;
+  vt::BodyReport::ConstPtr body_report;
+  std::vector<pcl_msgs::PolygonMesh::ConstPtr> garments;
+  std::map<std::string, vt::FitReport::ConstPtr> reports;  // by kind
+  std::vector<ros::Subscriber> subs;
+
+  Collector() {
+    ros::NodeHandle nh;
+    subs.push_back(nh.subscribe<pcl_msgs::PolygonMesh>("/tryon_node/body", 2, [this](const auto& b) {
+      std::lock_guard<std::mutex> l(m);
+      body = b;
+    }));
+    subs.push_back(nh.subscribe<vt::BodyReport>("/tryon_node/body_report", 2, [this](const auto& r) {
+      std::lock_guard<std::mutex> l(m);
+      body_report = r;
+    }));
+    subs.push_back(nh.subscribe<pcl_msgs::PolygonMesh>("/tryon_node/fitted_garment", 10,
+                                                       [this](const auto& g) {
+                                                         std::lock_guard<std::mutex> l(m);
+                                                         garments.push_back(g);
+                                                       }));
+    subs.push_back(nh.subscribe<vt::FitReport>("/tryon_node/fit_report", 10, [this](const auto& r) {
+      std::lock_guard<std::mutex> l(m);
+      reports[r->kind] = r;
+    }));
+  }
+
+  // Waits (wall clock) until the body and a report of both kinds arrived.
+  bool waitForAll(double seconds) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < deadline) {
+      {
+        std::lock_guard<std::mutex> l(m);
+        if (body && body_report && reports.count("resolve") && reports.count("drape")) return true;
+      }
+      ros::WallDuration(0.1).sleep();
+    }
+    return false;
+  }
+
+  // The garment published with the report of `kind` (same stamp).
+  pcl_msgs::PolygonMesh::ConstPtr garmentOf(const std::string& kind) {
+    std::lock_guard<std::mutex> l(m);
+    const auto r = reports.at(kind);
+    for (const auto& g : garments)
+      if (g->header.stamp == r->header.stamp) return g;
+    return nullptr;
+  }
+};
+
+Collector* collector = nullptr;
+
+vt::TriMesh mesh(const pcl_msgs::PolygonMesh& msg) {
+  vt::TriMesh out;
+  std::string error;
+  EXPECT_TRUE(vt::ros_conversions::fromMsg(msg, out, error)) << error;
+  return out;
+}
+
+}  // namespace
+
+TEST(DemoReplay, AllFitsArriveWithoutAServiceCall) {
+  ASSERT_TRUE(collector->waitForAll(200.0)) << "the body and both fits did not arrive in time";
+}
+
+TEST(DemoReplay, TheScanWasMeshedIntoAClosedOutwardBody) {
+  ASSERT_TRUE(collector->body && collector->body_report);
+  const vt::BodyReport& r = *collector->body_report;
+  EXPECT_EQ(r.source, "scan");
+  EXPECT_TRUE(r.normals_estimated);  // the demo scan has no normals, as a scanner gives it
+  EXPECT_GT(r.scan_points, 10000u);
+  // Checked here on the mesh itself, not only from the node's report.
+  const vt::TriMesh body = mesh(*collector->body);
+  EXPECT_GT(body.numFaces(), 10000);
+  EXPECT_TRUE(vt::edgeTopology(body).closed());
+  // The procedural body encloses about 0.063 m^3; outward means a positive signed volume.
+  EXPECT_GT(vt::signedVolume(body), 0.05);
+  EXPECT_LT(vt::signedVolume(body), 0.08);
+  EXPECT_EQ(collector->body->header.frame_id, "body");
+}
+
+TEST(DemoReplay, BothFittedGarmentsHaveNoCrossingsByABruteForceCount) {
+  ASSERT_TRUE(collector->body);
+  const vt::TriMesh body = mesh(*collector->body);
+  for (const std::string kind : {"resolve", "drape"}) {
+    SCOPED_TRACE(kind);
+    const auto report = collector->reports.at(kind);
+    EXPECT_TRUE(report->success) << report->message;
+    EXPECT_EQ(report->body.source, "scan");
+    const auto g = collector->garmentOf(kind);
+    ASSERT_TRUE(g) << "no garment published with the " << kind << " report";
+    EXPECT_EQ(g->header.frame_id, "body");
+    const vt::TriMesh garment = mesh(*g);
+    ASSERT_GT(garment.numFaces(), 100);
+    const vt::ReferenceCounts c = vt::referenceCounts(body, garment);
+    EXPECT_EQ(c.garment_edge_crossings, 0u);
+    EXPECT_EQ(c.body_edge_crossings, 0u);
+    EXPECT_EQ(c.vertices_inside, 0u);
+  }
+  // The garment mesh came with penetrations: the resolver had work to do.
+  const auto r = collector->reports.at("resolve")->resolve;
+  EXPECT_TRUE(r.converged) << r.reason;
+  EXPECT_GT(r.garment_edge_crossings_before + r.body_edge_crossings_before, 10u);
+  EXPECT_GT(r.moved_vertices, 10u);
+  const auto d = collector->reports.at("drape")->drape;
+  EXPECT_EQ(d.seams_open, 0u);
+  EXPECT_GT(d.iterations, 10u);
+}
+
+TEST(DemoReplay, MarkersShowTheBodyTheGarmentAndTheMovedVertices) {
+  visualization_msgs::MarkerArray a;
+  ASSERT_TRUE(virtual_tryon_test::waitForMarkers("/tryon_node/markers", 10.0, a));
+  const auto* body = virtual_tryon_test::findMarker(a, "body", 0);
+  const auto* garment = virtual_tryon_test::findMarker(a, "garment", 1);
+  const auto* moved = virtual_tryon_test::findMarker(a, "moved", 2);
+  ASSERT_TRUE(body && garment && moved);
+  EXPECT_EQ(body->type, visualization_msgs::Marker::TRIANGLE_LIST);
+  EXPECT_LT(body->color.a, 1.0f);  // semi-transparent
+  EXPECT_EQ(garment->type, visualization_msgs::Marker::TRIANGLE_LIST);
+  EXPECT_GT(garment->points.size(), 300u);
+  // The points are the vertices the last fit's resolver moved, one each, coloured by distance.
+  const auto resolve = collector->reports.at("resolve"), drape = collector->reports.at("drape");
+  const auto last = resolve->header.stamp > drape->header.stamp ? resolve : drape;
+  const std::uint32_t movedCount = last->kind == "resolve" ? last->resolve.moved_vertices
+                                                           : last->drape.resolver.moved_vertices;
+  SCOPED_TRACE("last fit: " + last->kind);
+  if (movedCount == 0) {
+    EXPECT_EQ(moved->action, visualization_msgs::Marker::DELETE);
+  } else {
+    EXPECT_EQ(moved->type, visualization_msgs::Marker::POINTS);
+    EXPECT_EQ(moved->points.size(), movedCount);
+    EXPECT_EQ(moved->points.size(), moved->colors.size());
+  }
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "demo_replay_test");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  Collector c;
+  collector = &c;
+  const int rc = RUN_ALL_TESTS();
+  collector = nullptr;
+  return rc;
+}
