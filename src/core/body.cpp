@@ -16,17 +16,23 @@ const fcl::CollisionObjectd& BodyBVH::distanceObject(const MatrixX3d& V, const M
 
 Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
-  edges_ = uniqueEdges(mesh_, &face_edges_);
-  edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
-  for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
-    for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
-  for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
-    const double len = edge_normals_.row(e).norm();
-    if (len > 0) edge_normals_.row(e) /= len;
-  }
   topology_ = edgeTopology(mesh_);
   mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
+}
+
+void Body::buildAdjacency() const {
+  std::call_once(adjacency_once_, [this] {
+    edges_ = uniqueEdges(mesh_, &face_edges_);
+    edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
+    for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
+      for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
+    for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
+      const double len = edge_normals_.row(e).norm();
+      if (len > 0) edge_normals_.row(e) /= len;
+    }
+    adjacency_built_ = true;
+  });
 }
 
 Body::~Body() = default;

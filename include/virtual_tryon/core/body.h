@@ -6,6 +6,7 @@
 #include "virtual_tryon/core/depth_maps.h"
 #include "virtual_tryon/core/mesh.h"
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 
@@ -22,11 +23,14 @@ class Body {
 
   const TriMesh& mesh() const { return mesh_; }
   const MatrixX3d& faceNormals() const { return face_normals_; }  // #F by 3, unit, outward
-  const MatrixX2i& edges() const { return edges_; }                // #E by 2 unique edges
-  const MatrixX3i& faceEdges() const { return face_edges_; }       // #F by 3 into edges()
+  // Edge adjacency, built on the first call to any of these three (thread-safe), then reused: a
+  // drape that only needs the depth maps never builds it.
+  const MatrixX2i& edges() const { buildAdjacency(); return edges_; }             // #E by 2 unique edges
+  const MatrixX3i& faceEdges() const { buildAdjacency(); return face_edges_; }    // #F by 3 into edges()
   // #E by 3: unit mean of the normals of the faces incident to each edge (outward direction at a
   // ridge or a valley).
-  const MatrixX3d& edgeNormals() const { return edge_normals_; }
+  const MatrixX3d& edgeNormals() const { buildAdjacency(); return edge_normals_; }
+  bool adjacencyBuilt() const { return adjacency_built_; }
   const EdgeTopology& topology() const { return topology_; }
   bool closed() const { return topology_.closed(); }
   double meanEdgeLength() const { return mean_edge_length_; }
@@ -45,18 +49,22 @@ class Body {
   int depthMapRenders() const;  // how many times maps were rendered for this body
 
  private:
+  void buildAdjacency() const;
+
   TriMesh mesh_;
   MatrixX3d face_normals_;
-  MatrixX2i edges_;
-  MatrixX3i face_edges_;
-  MatrixX3d edge_normals_;
+  mutable std::once_flag adjacency_once_;
+  mutable std::atomic<bool> adjacency_built_{false};
+  mutable MatrixX2i edges_;
+  mutable MatrixX3i face_edges_;
+  mutable MatrixX3d edge_normals_;
   EdgeTopology topology_;
   double mean_edge_length_ = 0;
   Eigen::Vector3d box_min_{0, 0, 0}, box_max_{0, 0, 0};
 
   mutable std::once_flag bvh_once_;
   mutable std::unique_ptr<BodyBVH> bvh_;
-  mutable bool bvh_built_ = false;
+  mutable std::atomic<bool> bvh_built_{false};
   mutable double bvh_seconds_ = 0;
 
   mutable std::mutex maps_mutex_;
