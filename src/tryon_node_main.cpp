@@ -5,9 +5,9 @@
 int main(int argc, char** argv) {
   ros::init(argc, argv, "tryon_node");
   virtual_tryon::TryonNode node(ros::NodeHandle(), ros::NodeHandle("~"));
-  // Two threads: topics keep being received while a resolve runs. TryonNode guards its shared
-  // state with a mutex and works on copies, so this is safe (see tryon_node.h).
-  ros::AsyncSpinner spinner(2);
+  // Callbacks and services on four threads; long topic work runs on the node's worker (see
+  // tryon_node.h), so two service calls run at once while topics keep arriving.
+  ros::AsyncSpinner spinner(4);
   spinner.start();
   ros::waitForShutdown();
   return 0;
