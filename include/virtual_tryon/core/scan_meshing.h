@@ -82,7 +82,8 @@ struct ScanMeshingResult {
                                        // (all seconds are wall-clock)
   double seconds_orient = 0;           // the symmetric kNN graph and the orientation propagation
   double seconds_reconstruct = 0;      // pcl::Poisson
-  double seconds_cleanup = 0;          // conversion, unused vertices, small pieces, body check
+  double seconds_cleanup = 0;          // conversion, unused vertices, cavities, small pieces, holes,
+                                       // body check
   double seconds_total = 0;
 };
 
