@@ -157,10 +157,11 @@ TEST(ScanMeshing, SphereScanReconstructsClosedOutwardAndAccurate) {
   const SyntheticScan scan = sphereScan();
   ASSERT_TRUE(scan.success) << scan.message;
   // Depth 7: 5.2 mm cells on this sphere's 0.66 m box. Measured over seeds 1-3 (1 mm noise): max
-  // radial error 1.2-1.4 mm at depth 7, 1.3-1.5 mm at depth 8 (the default, 30% slower), 1.0-1.2 mm
-  // at depth 6; volume within 0.07% at all three.
+  // radial error 1.2-1.4 mm at depth 7 (the default), 1.3-1.5 mm at depth 8 (30% slower), 1.0-1.2 mm
+  // at depth 6; volume within 0.07% at all three. No downsampling: every sample is used.
   ScanMeshingParams p;
   p.depth = 7;
+  p.voxel_size = 0;
   const ScanMeshingResult r = meshScan(scan.points, MatrixX3d(), p);
   expectClosedOutward(r);
   EXPECT_EQ(r.input_points, 20000u);
@@ -325,6 +326,7 @@ TEST(ScanMeshing, NonFinitePointsAreDroppedAndCounted) {
   scan.points(1, 2) = std::numeric_limits<double>::infinity();
   ScanMeshingParams p;
   p.depth = 6;
+  p.voxel_size = 0;  // every finite point is used
   const ScanMeshingResult r = meshScan(scan.points, MatrixX3d(), p);
   expectClosedOutward(r);
   EXPECT_EQ(r.non_finite_points, 61u);

@@ -2,6 +2,7 @@
 // (DrapeParams, ClothParams, CollisionParams), so that the node and the `tryon` command behave
 // alike unless someone changes a parameter on purpose.
 #include "virtual_tryon/core/drape.h"
+#include "virtual_tryon/core/scan_meshing.h"
 #include "virtual_tryon/ros/report_conversions.h"
 
 #include <gtest/gtest.h>
@@ -48,4 +49,18 @@ TEST(Params, DrapeDefaultsInParamsYamlAreTheCoreDefaults) {
   EXPECT_EQ(d["collision_mode"].as<std::string>(), rc::collisionModeName(p.mode));
   // Nothing in the file that the node does not read.
   for (const auto& kv : d) EXPECT_TRUE(seen.count(kv.first.as<std::string>())) << kv.first.as<std::string>();
+}
+
+TEST(Params, ScanDefaultsInParamsYamlAreTheCoreDefaults) {
+  const YAML::Node root = YAML::LoadFile(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/params.yaml");
+  const YAML::Node s = root["scan"];
+  ASSERT_TRUE(s && s.IsMap()) << "no scan: section";
+  const vt::ScanMeshingParams p;
+  ASSERT_EQ(vt::validateScanMeshingParams(p), "");
+  EXPECT_DOUBLE_EQ(s["voxel_size"].as<double>(), p.voxel_size);
+  EXPECT_EQ(s["normal_neighbours"].as<int>(), p.normal_neighbours);
+  EXPECT_EQ(s["depth"].as<int>(), p.depth);
+  EXPECT_EQ(s.size(), 3u) << "a scan/ key the node does not read";
+  ASSERT_TRUE(root["auto_fit"]);
+  EXPECT_FALSE(root["auto_fit"].as<bool>());
 }
