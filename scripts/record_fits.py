@@ -55,36 +55,49 @@ def write_obj(path, V, F):
 
 
 def render(path, body, garments):
+    """One panel per fit: the body (grey, translucent) and that fit's garment, shaded, seen from
+    the front and a little to the side. Body and garment faces are sorted together by depth."""
+    import numpy as np
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    views = [("front", 0), ("side", 90)]
-    fig = plt.figure(figsize=(6 * len(views), 8))
-    colours = {"resolve": (0.15, 0.45, 0.85, 1.0), "drape": (0.85, 0.35, 0.2, 1.0)}
-    for k, (name, azim) in enumerate(views):
-        ax = fig.add_subplot(1, len(views), k + 1, projection="3d")
-        # The node's frame has +y up and the body facing +z; matplotlib's 3D axes have z up, so
-        # plot (x, z, y).
-        def tris(V, F):
-            return [[(V[a][0], V[a][2], V[a][1]) for a in t] for t in F]
-        if body:
-            ax.add_collection3d(Poly3DCollection(tris(*body), facecolor=(0.7, 0.7, 0.7, 0.25),
-                                                 edgecolor="none"))
-        for kind, mesh in garments.items():
-            ax.add_collection3d(Poly3DCollection(tris(*mesh), facecolor=colours.get(kind, "C1"),
-                                                 edgecolor=(0, 0, 0, 0.15), linewidth=0.2))
+    titles = {"resolve": "garment mesh, penetrations resolved", "drape": "pattern sewn and draped"}
+    base = {"resolve": (0.15, 0.45, 0.85), "drape": (0.85, 0.35, 0.2)}
+    kinds = sorted(garments) or ["(no fit)"]
+    fig = plt.figure(figsize=(5 * len(kinds), 8))
+    light = np.array([0.4, 0.5, 0.75])
+    light /= np.linalg.norm(light)
+
+    def faces(mesh, rgb, alpha):
+        # The node's frame has +y up and the body facing +z; matplotlib's 3D axes have z up.
+        V = np.asarray(mesh[0])[:, [0, 2, 1]]
+        F = np.asarray(mesh[1], dtype=int)
+        T = V[F]
+        n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+        # The axis swap mirrors the winding: flip the normals back before shading.
+        shade = 0.35 + 0.65 * np.abs(-n @ light)
+        cols = np.column_stack([np.outer(shade, rgb), np.full(len(F), alpha)])
+        return T, cols
+
+    for k, kind in enumerate(kinds):
+        ax = fig.add_subplot(1, len(kinds), k + 1, projection="3d")
+        T, C = faces(body, (0.75, 0.75, 0.75), 0.35)
+        if kind in garments:
+            Tg, Cg = faces(garments[kind], base[kind], 1.0)
+            T, C = np.concatenate([T, Tg]), np.concatenate([C, Cg])
+        ax.add_collection3d(Poly3DCollection(T, facecolors=C, edgecolor="none"))
         ax.set_xlim(-0.5, 0.5)
         ax.set_ylim(-0.5, 0.5)
         ax.set_zlim(0.0, 1.8)
         ax.set_box_aspect((1, 1, 1.8))
-        ax.view_init(elev=10, azim=-90 + azim)
+        ax.view_init(elev=12, azim=-70)
         ax.set_xlabel("x (m)")
         ax.set_ylabel("z (m)")
         ax.set_zlabel("y (m, up)")
-        ax.set_title("%s view: %s" % (name, ", ".join(
-            "%s (%s)" % (k, "blue" if k == "resolve" else "orange") for k in garments)))
+        ax.set_title(titles.get(kind, kind))
     fig.tight_layout()
     fig.savefig(path, dpi=90)
 
@@ -101,7 +114,9 @@ def main():
 
     rospy.init_node("record_fits", anonymous=True, disable_signals=True)
     lock = threading.Condition()
-    state = {"body": None, "body_report": None, "garments": {}, "reports": {}, "last_garment": None}
+    # Garments by header stamp; each report names its garment by the same stamp (the two topics
+    # arrive on separate threads, in either order).
+    state = {"body": None, "body_report": None, "by_stamp": {}, "reports": {}, "raw_reports": {}}
 
     def on_body(msg):
         with lock:
@@ -114,16 +129,18 @@ def main():
 
     def on_garment(msg):
         with lock:
-            state["last_garment"] = msg
+            state["by_stamp"][msg.header.stamp] = msg
+            lock.notify_all()
 
     def on_report(msg):
         with lock:
-            g = state["last_garment"]
-            # The node publishes the garment, then its report with the same stamp.
-            if msg.success and g is not None and g.header.stamp == msg.header.stamp:
-                state["garments"][msg.kind] = mesh_arrays(g)
+            state["raw_reports"][msg.kind] = msg
             state["reports"][msg.kind] = to_dict(msg)
             lock.notify_all()
+
+    def garment_of(kind):
+        r = state["raw_reports"].get(kind)
+        return state["by_stamp"].get(r.header.stamp) if r is not None and r.success else None
 
     rospy.Subscriber(args.node + "/body", PolygonMesh, on_body)
     rospy.Subscriber(args.node + "/body_report", BodyReport, on_body_report)
@@ -131,7 +148,9 @@ def main():
     rospy.Subscriber(args.node + "/fit_report", FitReport, on_report, queue_size=10)
 
     def done():
-        return state["body"] is not None and all(k in state["reports"] for k in kinds)
+        return state["body"] is not None and all(
+            k in state["reports"] and (garment_of(k) is not None or not state["reports"][k]["success"])
+            for k in kinds)
 
     deadline = rospy.Time.now() + rospy.Duration(args.timeout)
     with lock:
@@ -146,10 +165,11 @@ def main():
         for kind, report in state["reports"].items():
             with open(os.path.join(args.out, "report_%s.json" % kind), "w") as f:
                 json.dump(report, f, indent=1)
-        for kind, mesh in state["garments"].items():
+        garments = {k: mesh_arrays(garment_of(k)) for k in state["reports"] if garment_of(k) is not None}
+        for kind, mesh in garments.items():
             write_obj(os.path.join(args.out, "garment_%s.obj" % kind), *mesh)
         if state["body"]:
-            render(os.path.join(args.out, "result.png"), state["body"], state["garments"])
+            render(os.path.join(args.out, "result.png"), state["body"], garments)
         ok = done() and all(state["reports"][k]["success"] for k in kinds)
         for kind in kinds:
             r = state["reports"].get(kind)

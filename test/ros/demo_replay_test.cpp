@@ -66,12 +66,19 @@ struct Collector {
     return false;
   }
 
-  // The garment published with the report of `kind` (same stamp).
+  // The garment published with the report of `kind` (same stamp). The two topics arrive in
+  // either order, so it waits a little for the garment.
   pcl_msgs::PolygonMesh::ConstPtr garmentOf(const std::string& kind) {
-    std::lock_guard<std::mutex> l(m);
-    const auto r = reports.at(kind);
-    for (const auto& g : garments)
-      if (g->header.stamp == r->header.stamp) return g;
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
+    do {
+      {
+        std::lock_guard<std::mutex> l(m);
+        const auto r = reports.at(kind);
+        for (const auto& g : garments)
+          if (g->header.stamp == r->header.stamp) return g;
+      }
+      ros::WallDuration(0.05).sleep();
+    } while (ros::WallTime::now() < deadline);
     return nullptr;
   }
 };
