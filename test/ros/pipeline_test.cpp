@@ -166,63 +166,59 @@ TEST(Pipeline, TwoClientsAtOnceWhileBodiesStreamIn) {
   EXPECT_FALSE(srv.response.message.empty());
 }
 
-TEST(Pipeline, AnUnchangedBodyIsNotProcessedAgain) {
+// Counts the node's ~body_report messages and keeps the last; publishes bodies on ~body_mesh.
+struct BodyReports {
   ros::NodeHandle nh;
-  std::atomic<int> reports{0};
-  vt::BodyReport last;
   std::mutex m;
-  ros::Subscriber sub = nh.subscribe<vt::BodyReport>("/tryon_node/body_report", 10,
-                                                     [&](const vt::BodyReport::ConstPtr& r) {
-                                                       std::lock_guard<std::mutex> l(m);
-                                                       last = *r;
-                                                       ++reports;
-                                                     });
-  ros::Publisher bodies = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/body_mesh", 5);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
-  while (bodies.getNumSubscribers() == 0 && ros::WallTime::now() < deadline)
-    ros::WallDuration(0.05).sleep();
-  ros::WallDuration(1.0).sleep();  // the latched report of the previous test's last body
-  const int before = reports;
+  vt::BodyReport last;
+  std::atomic<int> count{0};
+  ros::Subscriber sub;
+  ros::Publisher bodies;
+
+  BodyReports() {
+    sub = nh.subscribe<vt::BodyReport>("/tryon_node/body_report", 10,
+                                       [this](const vt::BodyReport::ConstPtr& r) {
+                                         std::lock_guard<std::mutex> l(m);
+                                         last = *r;
+                                         ++count;
+                                       });
+    bodies = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/body_mesh", 5);
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
+    while (bodies.getNumSubscribers() == 0 && ros::WallTime::now() < deadline)
+      ros::WallDuration(0.05).sleep();
+    ros::WallDuration(1.0).sleep();  // the latched report of an earlier body arrives first
+  }
+};
+
+TEST(Pipeline, AnUnchangedBodyIsNotProcessedAgain) {
+  BodyReports reports;
+  const int before = reports.count;
   const pcl_msgs::PolygonMesh body = toMsg(vt::makeSphere(0.25), "body");
   for (int i = 0; i < 4; ++i) {
-    bodies.publish(body);
+    reports.bodies.publish(body);
     ros::WallDuration(0.3).sleep();
   }
   ros::WallDuration(1.0).sleep();
-  EXPECT_EQ(reports - before, 1) << "the same body four times must be installed once";
-  std::lock_guard<std::mutex> l(m);
-  EXPECT_EQ(last.source, "mesh");
-  EXPECT_TRUE(last.closed);
-  EXPECT_GT(last.signed_volume, 0.0);
+  EXPECT_EQ(reports.count - before, 1) << "the same body four times must be installed once";
+  std::lock_guard<std::mutex> l(reports.m);
+  EXPECT_EQ(reports.last.source, "mesh");
+  EXPECT_TRUE(reports.last.closed);
+  EXPECT_GT(reports.last.signed_volume, 0.0);
 }
 
 TEST(Pipeline, AnInvertedBodyIsFlippedWithAReport) {
-  ros::NodeHandle nh;
-  std::mutex m;
-  vt::BodyReport last;
-  std::atomic<int> reports{0};
-  ros::Subscriber sub = nh.subscribe<vt::BodyReport>("/tryon_node/body_report", 10,
-                                                     [&](const vt::BodyReport::ConstPtr& r) {
-                                                       std::lock_guard<std::mutex> l(m);
-                                                       last = *r;
-                                                       ++reports;
-                                                     });
-  ros::Publisher bodies = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/body_mesh", 5);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
-  while (bodies.getNumSubscribers() == 0 && ros::WallTime::now() < deadline)
-    ros::WallDuration(0.05).sleep();
-  ros::WallDuration(0.5).sleep();
-  const int before = reports;
+  BodyReports reports;
+  const int before = reports.count;
   vt::TriMesh inverted = vt::makeSphere(0.2);
   inverted.F.col(1).swap(inverted.F.col(2));
-  bodies.publish(toMsg(inverted, "body"));
+  reports.bodies.publish(toMsg(inverted, "body"));
   const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10);
-  while (reports == before && ros::WallTime::now() < until) ros::WallDuration(0.05).sleep();
-  ASSERT_GT(reports - before, 0);
-  std::lock_guard<std::mutex> l(m);
-  EXPECT_TRUE(last.flipped);
-  EXPECT_GT(last.signed_volume, 0.0);
-  EXPECT_NE(last.summary.find("flipped"), std::string::npos) << last.summary;
+  while (reports.count == before && ros::WallTime::now() < until) ros::WallDuration(0.05).sleep();
+  ASSERT_GT(reports.count - before, 0);
+  std::lock_guard<std::mutex> l(reports.m);
+  EXPECT_TRUE(reports.last.flipped);
+  EXPECT_GT(reports.last.signed_volume, 0.0);
+  EXPECT_NE(reports.last.summary.find("flipped"), std::string::npos) << reports.last.summary;
 }
 
 int main(int argc, char** argv) {
