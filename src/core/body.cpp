@@ -26,6 +26,7 @@ Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   }
   topology_ = edgeTopology(mesh_);
   mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
+  signed_volume_ = virtual_tryon::signedVolume(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
 }
 
