@@ -10,6 +10,7 @@
 #include <cmath>
 #include <queue>
 #include <sstream>
+#include <unordered_map>
 #include <utility>
 
 namespace virtual_tryon {
@@ -184,9 +185,12 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   rep.body_edge_crossings_before = crossings.body_edges.size();
 
   // Inside flags before any move, and per piece how many of its vertices are inside. A vertex that
-  // never moves keeps its flag, so later only the pieces that moved need a look.
-  std::vector<char> insideBefore;
+  // never moves keeps its flag; after a round only the moved vertices are classified again, from
+  // a neighbour across the crossings of the edge between them (or one ray test for a region
+  // with no known neighbour).
+  std::vector<char> insideBefore, inside;
   std::vector<int> pieceInsideBefore;
+  std::size_t insideCount = 0;
   if (insideTest) {
     t0 = clock.now();
     insideBefore = classifyInside(body, garment, topo, graph, crossings);
@@ -196,41 +200,57 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
         ++rep.vertices_inside_before;
         ++pieceInsideBefore[graph.piece[v]];
       }
+    inside = insideBefore;
+    insideCount = rep.vertices_inside_before;
     rep.seconds_detection += clock.now() - t0;
   }
+  // The error the run drives down, and judges progress and the best state by: crossings plus
+  // garment vertices inside (the crossings alone can stay level while a deep region shrinks).
+  auto error = [&] { return crossings.size() + insideCount; };
 
   auto record = [&](ResolverIteration it) {
     it.iteration = rep.iterations;
     it.seconds = clock.now();
     it.garment_edge_crossings = crossings.garment_edges.size();
     it.body_edge_crossings = crossings.body_edges.size();
+    it.vertices_inside = insideCount;
     rep.trace.push_back(it);
     if (params.on_iteration) clock.exclude([&] { params.on_iteration(rep.trace.back(), garment); });
   };
   record(ResolverIteration());
 
   // Every vertex that moved, with its start position (for the displacement statistics and the
-  // inside test), and an undo log back to the state with the fewest crossings.
+  // inside test), and an undo log back to the state with the smallest error.
   std::vector<char> touched(static_cast<std::size_t>(nv), 0), logged(static_cast<std::size_t>(nv), 0);
   std::vector<int> touchedList;
   std::vector<Eigen::RowVector3d> startPos;
-  std::vector<std::pair<int, Eigen::RowVector3d>> undo;
+  struct Undo {
+    int v;
+    Eigen::RowVector3d x;
+    char inside;
+  };
+  std::vector<Undo> undo;
   CrossingSet bestCrossings = crossings;
-  std::size_t best = crossings.size();
+  std::size_t best = error(), bestInside = insideCount;
   int sinceBest = 0;
   auto newBest = [&] {
-    for (const auto& u : undo) logged[u.first] = 0;
+    for (const auto& u : undo) logged[u.v] = 0;
     undo.clear();
     bestCrossings = crossings;
-    best = crossings.size();
+    best = error();
+    bestInside = insideCount;
     sinceBest = 0;
   };
   auto restoreBest = [&] {
-    if (crossings.size() <= best) return;
-    for (auto it = undo.rbegin(); it != undo.rend(); ++it) garment.V.row(it->first) = it->second;
-    for (const auto& u : undo) logged[u.first] = 0;
+    if (error() <= best) return;
+    for (auto it = undo.rbegin(); it != undo.rend(); ++it) {
+      garment.V.row(it->v) = it->x;
+      if (insideTest) inside[it->v] = it->inside;
+    }
+    for (const auto& u : undo) logged[u.v] = 0;
     undo.clear();
     crossings = bestCrossings;
+    insideCount = bestInside;
   };
   std::vector<int> movedList;  // this step
   auto move = [&](int v, const Eigen::RowVector3d& to) {
@@ -241,15 +261,17 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     }
     if (!logged[v]) {
       logged[v] = 1;
-      undo.emplace_back(v, garment.V.row(v));
+      undo.push_back({v, garment.V.row(v), insideTest ? inside[v] : char(0)});
     }
     garment.V.row(v) = to;
     movedList.push_back(v);
   };
-  // Garment faces round the vertices moved in this step (each once).
+  // Garment faces round the vertices moved in this step (each once), detected again; then the
+  // moved vertices classified again.
   std::vector<char> faceMark(static_cast<std::size_t>(garment.F.rows()), 0);
   std::vector<char> dirtyFace(faceMark.size(), 0), dirtyEdge(static_cast<std::size_t>(topo.edges.rows()), 0);
-  std::vector<int> dirty;
+  std::vector<char> unknown(static_cast<std::size_t>(nv), 0);
+  std::vector<int> dirty, queue;
   auto redetect = [&] {
     dirty.clear();
     std::sort(movedList.begin(), movedList.end());
@@ -263,6 +285,50 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     for (int f : dirty) faceMark[f] = 0;
     std::sort(dirty.begin(), dirty.end());
     updateCrossings(body, garment, topo, dirty, dirtyFace, dirtyEdge, crossings);
+    if (!insideTest) return;
+    std::unordered_map<int, int> flips;
+    for (const auto& c : crossings.garment_edges) ++flips[c.edge];
+    auto parity = [&](int e) {
+      const auto it = flips.find(e);
+      return it == flips.end() ? 0 : (it->second & 1);
+    };
+    for (int v : movedList) {
+      insideCount -= static_cast<std::size_t>(inside[v]);
+      unknown[v] = 1;
+    }
+    auto spread = [&] {
+      while (!queue.empty()) {
+        const int u = queue.back();
+        queue.pop_back();
+        for (int i = graph.adj_start[u]; i < graph.adj_start[u + 1]; ++i) {
+          const int w = graph.adj_v[i];
+          if (!unknown[w]) continue;
+          unknown[w] = 0;
+          inside[w] = static_cast<char>(inside[u] ^ parity(graph.adj_e[i]));
+          queue.push_back(w);
+        }
+      }
+    };
+    for (int v : movedList) {
+      if (!unknown[v]) continue;
+      for (int i = graph.adj_start[v]; i < graph.adj_start[v + 1]; ++i) {
+        const int u = graph.adj_v[i];
+        if (unknown[u]) continue;
+        unknown[v] = 0;
+        inside[v] = static_cast<char>(inside[u] ^ parity(graph.adj_e[i]));
+        queue.push_back(v);
+        spread();
+        break;
+      }
+    }
+    for (int v : movedList) {
+      if (!unknown[v]) continue;
+      unknown[v] = 0;
+      inside[v] = pointInsideBody(body, garment.V.row(v).transpose()) ? 1 : 0;
+      queue.push_back(v);
+      spread();
+    }
+    for (int v : movedList) insideCount += static_cast<std::size_t>(inside[v]);
   };
 
   // With no crossing every piece lies wholly inside or wholly outside. Pieces no vertex of which
@@ -304,14 +370,11 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   bool pushedOut = false;
   std::size_t infeasibleLastRound = 0;
   auto budgetSpent = [&] { return params.time_budget > 0 && clock.now() >= params.time_budget; };
-  auto stopForBudget = [&] {
-    rep.time_budget_spent = true;
-    reason << "time budget " << params.time_budget << " s spent after " << rep.iterations << " iterations ("
-           << std::min(best, crossings.size()) << " crossings left in the best state, which is returned)";
-    restoreBest();
-  };
   std::vector<int> insidePieces;
   std::vector<char> everIllegal(static_cast<std::size_t>(nv), 0);
+  auto describeBest = [&](std::ostringstream& o) {
+    o << "best " << best << " (crossings + vertices inside), which is returned";
+  };
 
   for (;;) {
     if (crossings.size() == 0) {
@@ -324,6 +387,7 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
       const std::size_t nInside = insideNow(insidePieces);
       rep.seconds_detection += clock.now() - t0;
       if (nInside == 0) {
+        insideCount = 0;
         rep.converged = true;
         reason << "no edge-face crossing left, no garment vertex inside the body";
         break;
@@ -364,13 +428,16 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     }
     if (rep.iterations >= params.max_iterations) {
       reason << "iteration limit " << params.max_iterations << " reached with " << crossings.size()
-             << " crossings left";
+             << " crossings and " << insideCount << " vertices inside left; ";
+      describeBest(reason);
       restoreBest();
       break;
     }
     if (sinceBest >= params.stall_iterations) {
       reason << "no progress for " << params.stall_iterations << " iterations (" << crossings.size()
-             << " crossings left, best " << best << ", which is returned)";
+             << " crossings and " << insideCount << " vertices inside left; ";
+      describeBest(reason);
+      reason << ")";
       if (infeasibleLastRound > 0)
         reason << "; " << infeasibleLastRound
                << " impact zones have contradicting constraints, a configuration the body's "
@@ -379,7 +446,12 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
       break;
     }
     if (budgetSpent()) {
-      stopForBudget();
+      rep.time_budget_spent = true;
+      reason << "time budget " << params.time_budget << " s spent after " << rep.iterations << " iterations ("
+             << crossings.size() << " crossings and " << insideCount << " vertices inside left; ";
+      describeBest(reason);
+      reason << ")";
+      restoreBest();
       break;
     }
     ++rep.iterations;
@@ -429,6 +501,10 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
       reason << "no progress possible: all " << infeasibleLastRound << " impact zones left ("
              << crossings.size() << " crossings) have contradicting constraints, a configuration "
              << "the body's orientation cannot resolve (Sun et al. 2016, Fig. 5)";
+      if (error() > best) {
+        reason << "; ";
+        describeBest(reason);
+      }
       restoreBest();
       break;
     }
@@ -437,18 +513,20 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
     t0 = clock.now();
     redetect();
     rep.seconds_detection += clock.now() - t0;
-    if (crossings.size() < best)
+    if (error() < best)
       newBest();
     else
       ++sinceBest;
     record(it);
   }
 
+  if (!rep.converged && pushedOut)
+    reason << " (after pieces found wholly inside were pushed out to their nearest body points)";
   rep.garment_edge_crossings_after = crossings.garment_edges.size();
   rep.body_edge_crossings_after = crossings.body_edges.size();
   if (crossings.size() > 0 && insideTest) {
-    const auto inside = classifyInside(body, garment, topo, graph, crossings);
-    rep.vertices_inside_after = static_cast<std::size_t>(std::count(inside.begin(), inside.end(), 1));
+    const auto in = classifyInside(body, garment, topo, graph, crossings);
+    rep.vertices_inside_after = static_cast<std::size_t>(std::count(in.begin(), in.end(), 1));
   }
   double sum = 0;
   for (std::size_t i = 0; i < touchedList.size(); ++i) {

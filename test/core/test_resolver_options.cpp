@@ -130,25 +130,64 @@ TEST(ResolverOptions, TimeBudgetStopsWithTheBestStateAndSaysSo) {
   EXPECT_FALSE(full.time_budget_spent);
 }
 
-TEST(ResolverOptions, AStopWithoutConvergingReturnsTheStateWithTheFewestCrossings) {
-  ResolveScene s = makeWrinkledTubeScene(48, 30);
+TEST(ResolverOptions, AStopWithoutConvergingReturnsTheStateWithTheSmallestError) {
+  // The error is crossings plus vertices inside; the trace's inside counts (tracked per moved
+  // vertex) must agree with a full classification of the state returned.
+  // 41 segments: the tube's vertices do not line up with the capsule's 48 seams (where a crossing
+  // through a shared body edge may count once or twice, and parity says nothing).
+  ResolveScene s = makeWrinkledTubeScene(41, 29);
   Body b(s.body);
-  for (int limit : {1, 2}) {
+  int stopped = 0;
+  for (int limit : {1, 2, 3}) {
     TriMesh g = s.garment;
     ResolverParams p;
     p.max_iterations = limit;
     p.solver = ZoneSolver::PerStencilProjection;
     const ResolverReport rep = resolvePenetrations(b, g, p);
     if (rep.converged) continue;
-    std::size_t fewest = rep.trace.front().garment_edge_crossings + rep.trace.front().body_edge_crossings;
-    for (const auto& it : rep.trace) fewest = std::min(fewest, it.garment_edge_crossings + it.body_edge_crossings);
-    EXPECT_EQ(rep.garment_edge_crossings_after + rep.body_edge_crossings_after, fewest);
+    ++stopped;
+    std::size_t fewest = static_cast<std::size_t>(-1);
+    for (const auto& it : rep.trace)
+      fewest = std::min(fewest, it.garment_edge_crossings + it.body_edge_crossings + it.vertices_inside);
+    EXPECT_EQ(rep.garment_edge_crossings_after + rep.body_edge_crossings_after + rep.vertices_inside_after, fewest);
     TriMesh again = g;
     ResolverParams count;
     count.max_iterations = 0;
     const ResolverReport recount = resolvePenetrations(b, again, count);
-    EXPECT_EQ(recount.garment_edge_crossings_before + recount.body_edge_crossings_before, fewest);
+    EXPECT_EQ(recount.garment_edge_crossings_before + recount.body_edge_crossings_before +
+                  recount.vertices_inside_before,
+              fewest);
+    // The independent referee sees the same vertices inside.
+    EXPECT_EQ(ReferenceReferee(s.body).count(g).vertices_inside, recount.vertices_inside_before);
   }
+  EXPECT_GT(stopped, 0);
+}
+
+TEST(ResolverOptions, TracedInsideCountsAgreeWithTheReferee) {
+  // 41 segments: the tube's vertices do not line up with the capsule's 48 seams (where a crossing
+  // through a shared body edge may count once or twice, and parity says nothing).
+  ResolveScene s = makeWrinkledTubeScene(41, 29);
+  Body b(s.body);
+  ReferenceReferee ref(s.body);
+  ResolverParams p;
+  int checked = 0;
+  p.on_iteration = [&](const ResolverIteration& it, const TriMesh& g) {
+    EXPECT_EQ(it.vertices_inside, ref.count(g).vertices_inside) << "iteration " << it.iteration;
+    ++checked;
+  };
+  EXPECT_TRUE(resolvePenetrations(b, s.garment, p).converged);
+  EXPECT_GE(checked, 3);
+}
+
+TEST(ResolverOptions, ADeepRegionKeepsProgressingWhileItsCrossingsStayLevel) {
+  // A strip 0.1 m deep in a capsule: each round clears a row from the rim, the number of
+  // crossings stays about the same, the vertices inside fall. No stall.
+  const TriMesh torso = makeCapsule(0.15, 0.6, V3::Zero(), 48, 24);
+  TriMesh patch = transformed(makePatch(0.4, 0.2, 40, 20), V3::UnitX(), M_PI / 2, V3(0, 0, 0.05));
+  Body b(torso);
+  const ResolverReport rep = resolvePenetrations(b, patch);
+  EXPECT_EQ(rep.reason.find("no progress for"), std::string::npos) << rep.reason;
+  EXPECT_GT(rep.iterations, 12);
 }
 
 TEST(ResolverOptions, AnInsideOutBodyIsRefusedAndNothingMoves) {

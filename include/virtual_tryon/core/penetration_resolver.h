@@ -36,6 +36,7 @@ struct ResolverIteration {
   double seconds = 0;      // since the call began, without the time spent in on_iteration
   std::size_t garment_edge_crossings = 0;  // by the resolver's own detector, after this step
   std::size_t body_edge_crossings = 0;
+  std::size_t vertices_inside = 0;   // closed body: garment vertices inside, as the resolver tracks them
   std::size_t illegal_vertices = 0;  // found behind a body face in this round
   std::size_t stencils = 0;
   std::size_t impact_zones = 0;      // 0 for ZoneSolver::PerStencilProjection
@@ -50,8 +51,9 @@ struct ResolverParams {
   double clearance = 0.0;
   double clearance_fraction = 0.05;
   int max_iterations = 100;
-  // Stop as not converged when the number of crossings has not reached a new minimum for this many
-  // rounds (a configuration that orientation alone cannot resolve, the paper's Fig. 5).
+  // Stop as not converged when the error (crossings plus garment vertices inside the body) has not
+  // reached a new minimum for this many rounds (a configuration that orientation alone cannot
+  // resolve, the paper's Fig. 5).
   int stall_iterations = 12;
   // For a closed body, test whether garment pieces with no crossing edge lie wholly inside.
   bool check_inside = true;
@@ -98,8 +100,9 @@ struct ResolverReport {
 // closed body with negative volume, i.e. inside out, is refused: not converged, nothing moved).
 //
 // When the run stops without converging (iteration limit, no progress, time budget), the garment
-// is left in the state with the fewest crossings reached since the last push-out (the earliest of
-// equals), and the "after" counts describe that state.
+// is left in the state with the smallest error (crossings plus vertices inside, by the resolver's
+// own detector) reached since the last push-out (the earliest of equals), and the "after" counts
+// describe that state.
 //
 // Cost: one full detection pass (and, for a closed body, one ray test per connected garment
 // piece); after that every round touches only the stencils, the moved vertices and the faces
