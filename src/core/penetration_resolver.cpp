@@ -208,6 +208,13 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   // garment vertices inside (the crossings alone can stay level while a deep region shrinks).
   auto error = [&] { return crossings.size() + insideCount; };
 
+  // Per-vertex and per-face flags for the rounds (allocated here, with the first pass).
+  std::vector<char> touched(static_cast<std::size_t>(nv), 0), logged(static_cast<std::size_t>(nv), 0);
+  std::vector<char> faceMark(static_cast<std::size_t>(garment.F.rows()), 0);
+  std::vector<char> dirtyFace(faceMark.size(), 0), dirtyEdge(static_cast<std::size_t>(topo.edges.rows()), 0);
+  std::vector<char> unknown(static_cast<std::size_t>(nv), 0), everIllegal(static_cast<std::size_t>(nv), 0);
+  std::vector<char> pieceMark(static_cast<std::size_t>(graph.pieces), 0);
+
   auto record = [&](ResolverIteration it) {
     it.iteration = rep.iterations;
     it.seconds = clock.now();
@@ -221,7 +228,6 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
 
   // Every vertex that moved, with its start position (for the displacement statistics and the
   // inside test), and an undo log back to the state with the smallest error.
-  std::vector<char> touched(static_cast<std::size_t>(nv), 0), logged(static_cast<std::size_t>(nv), 0);
   std::vector<int> touchedList;
   std::vector<Eigen::RowVector3d> startPos;
   struct Undo {
@@ -268,9 +274,6 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   };
   // Garment faces round the vertices moved in this step (each once), detected again; then the
   // moved vertices classified again.
-  std::vector<char> faceMark(static_cast<std::size_t>(garment.F.rows()), 0);
-  std::vector<char> dirtyFace(faceMark.size(), 0), dirtyEdge(static_cast<std::size_t>(topo.edges.rows()), 0);
-  std::vector<char> unknown(static_cast<std::size_t>(nv), 0);
   std::vector<int> dirty, queue;
   auto redetect = [&] {
     dirty.clear();
@@ -335,7 +338,6 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   // moved keep their status; a moved piece takes it from a vertex that did not move, or from one
   // ray test when all of them moved. Returns the vertices inside; `insidePieces` lists the moved
   // pieces now inside and the unmoved pieces that were inside from the start.
-  std::vector<char> pieceMark(static_cast<std::size_t>(graph.pieces), 0);
   auto insideNow = [&](std::vector<int>& insidePieces) {
     insidePieces.clear();
     std::size_t n = rep.vertices_inside_before;
@@ -371,7 +373,6 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   std::size_t infeasibleLastRound = 0;
   auto budgetSpent = [&] { return params.time_budget > 0 && clock.now() >= params.time_budget; };
   std::vector<int> insidePieces;
-  std::vector<char> everIllegal(static_cast<std::size_t>(nv), 0);
   auto describeBest = [&](std::ostringstream& o) {
     o << "best " << best << " (crossings + vertices inside), which is returned";
   };

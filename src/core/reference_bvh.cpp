@@ -175,6 +175,15 @@ void ReferenceReferee::inside(const TriMesh& garment, std::vector<char>& inside,
   }
 }
 
+std::vector<double> ReferenceReferee::signedDistances(const TriMesh& garment) const {
+  std::vector<char> in;
+  std::vector<double> d;
+  inside(garment, in, &d);
+  for (std::size_t v = 0; v < in.size(); ++v)
+    d[v] = in[v] ? -d[v] : tree_.distance(body_, garment.V.row(static_cast<Eigen::Index>(v)).transpose());
+  return d;
+}
+
 ReferenceCounts ReferenceReferee::count(const TriMesh& garment, bool countInside, double eps) const {
   ReferenceCounts r;
   r.garment_edge_crossings = countCrossings(garment, uniqueEdges(garment), body_, tree_, eps);

@@ -61,4 +61,8 @@ TEST(ReferenceBvh, DepthIsTheDistanceToTheSurface) {
   EXPECT_NEAR(depth[0], 0.2, 2e-3);  // a tessellated sphere is a little smaller
   EXPECT_NEAR(depth[1], 0.1, 2e-3);
   EXPECT_TRUE(std::isnan(depth[2]));
+  const std::vector<double> sd = r.signedDistances(pts);
+  EXPECT_NEAR(sd[0], -depth[0], 1e-15);
+  EXPECT_NEAR(sd[1], -depth[1], 1e-15);
+  EXPECT_NEAR(sd[2], 0.1, 2e-3);
 }

@@ -50,6 +50,8 @@ class ReferenceReferee {
   // Per garment vertex: inside the (closed) body by the three-ray parity vote, and the distance
   // to the body surface (NaN for vertices outside).
   void inside(const TriMesh& garment, std::vector<char>& inside, std::vector<double>* depth = nullptr) const;
+  // Per garment vertex: the distance to the body surface, negative for vertices inside.
+  std::vector<double> signedDistances(const TriMesh& garment) const;
   const TriMesh& body() const { return body_; }
 
  private:
