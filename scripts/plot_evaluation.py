@@ -380,6 +380,7 @@ if modes:
         ax.set_xlabel("body")
     axes[0].set_yscale("log")
     axes[1].set_yscale("log")
+    axes[2].set_ylim(0, axes[2].get_ylim()[1] * 1.15)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle("Image space against object space, the same garment and iteration cap", fontsize=10)

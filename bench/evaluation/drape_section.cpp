@@ -131,7 +131,7 @@ void drapeSection(const Options& o) {
       vt::TriMesh out;
       const vt::DrapeResult r = vt::drape(*b.body, pattern, p, out);
       if (!r.success) {
-        summary().note("drape map " + std::to_string(size) + ": " + r.message);
+        summary().note("drape, " + b.name + " with map size " + std::to_string(size) + ": " + r.message);
         continue;
       }
       const auto mp = b.body->depthMaps(p.collision);
@@ -180,7 +180,9 @@ void drapeSection(const Options& o) {
       vt::TriMesh out;
       const vt::DrapeResult r = vt::drape(*b.body, pattern, p, out);
       if (!r.success) {
-        summary().note("drape spacing " + std::to_string(s) + ": " + r.message);
+        char what[64];
+        std::snprintf(what, sizeof what, "drape, %s at spacing %g m: ", b.name.c_str(), s);
+        summary().note(what + r.message);
         continue;
       }
       const Error e = collisionError(*b.ref, out);
