@@ -18,6 +18,7 @@ Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
   topology_ = edgeTopology(mesh_);
   mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
+  signed_volume_ = virtual_tryon::signedVolume(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
 }
 

@@ -1,11 +1,13 @@
 #include "virtual_tryon/core/impact_zones.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -13,23 +15,36 @@ namespace virtual_tryon {
 
 std::vector<std::vector<int>> groupImpactZones(const std::vector<Stencil>& stencils,
                                                int numVertices) {
-  std::vector<int> parent(static_cast<std::size_t>(numVertices), -1);  // -1: not in any stencil
+  (void)numVertices;
+  // Union-find over the stencils' own vertices only (sorted and numbered locally), so the cost
+  // follows the stencils, not the garment.
+  std::vector<int> verts;
+  for (const Stencil& s : stencils)
+    for (int k = 0; k < s.count; ++k) verts.push_back(s.vertex[k]);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  auto local = [&](int v) {
+    return static_cast<int>(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin());
+  };
+  std::vector<int> parent(verts.size());
+  std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  for (const Stencil& s : stencils)
-    for (int k = 0; k < s.count; ++k)
-      if (parent[s.vertex[k]] < 0) parent[s.vertex[k]] = s.vertex[k];
-  for (const Stencil& s : stencils)
+  std::vector<int> first(stencils.size());
+  for (std::size_t i = 0; i < stencils.size(); ++i) {
+    const Stencil& s = stencils[i];
+    first[i] = local(s.vertex[0]);
     for (int k = 1; k < s.count; ++k) {
-      const int a = find(s.vertex[0]), b = find(s.vertex[k]);
+      const int a = find(first[i]), b = find(local(s.vertex[k]));
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
+  }
   std::unordered_map<int, std::size_t> zoneOf;
   std::vector<std::vector<int>> zones;
   for (std::size_t i = 0; i < stencils.size(); ++i) {
-    const int r = find(stencils[i].vertex[0]);
+    const int r = find(first[i]);
     auto it = zoneOf.emplace(r, zones.size());
     if (it.second) zones.emplace_back();
     zones[it.first->second].push_back(static_cast<int>(i));
@@ -227,6 +242,67 @@ ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::ve
   }
   sol.lambda.assign(lambda.data(), lambda.data() + k);
   return sol;
+}
+
+ZoneSolution projectStencilsIndependently(const std::vector<Stencil>& stencils, double d) {
+  ZoneSolution sol;
+  std::unordered_map<int, int> local;
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> count;
+  sol.lambda.assign(stencils.size(), 0.0);
+  for (std::size_t i = 0; i < stencils.size(); ++i) {
+    const Stencil& s = stencils[i];
+    double g2 = 0;
+    for (int j = 0; j < s.count; ++j) g2 += s.weight[j] * s.weight[j];
+    g2 *= s.normal.squaredNorm();
+    const double lambda = g2 > 0 ? std::max(0.0, (d - s.D) / g2) : 0.0;
+    sol.lambda[i] = lambda;
+    for (int j = 0; j < s.count; ++j) {
+      auto it = local.emplace(s.vertex[j], static_cast<int>(sol.vertices.size()));
+      if (it.second) {
+        sol.vertices.push_back(s.vertex[j]);
+        sum.emplace_back(Eigen::Vector3d::Zero());
+        count.push_back(0);
+      }
+      if (lambda * s.weight[j] == 0) continue;
+      sum[it.first->second] += lambda * s.weight[j] * s.normal;
+      ++count[it.first->second];
+    }
+  }
+  sol.displacement.resize(sol.vertices.size());
+  for (std::size_t v = 0; v < sol.vertices.size(); ++v)
+    sol.displacement[v] = count[v] ? Eigen::Vector3d(sum[v] / count[v]) : Eigen::Vector3d::Zero();
+  // How far the averaged move leaves each constraint from d.
+  for (const Stencil& s : stencils) {
+    double g = 0;
+    for (int j = 0; j < s.count; ++j) g += s.weight[j] * s.normal.dot(sol.displacement[local[s.vertex[j]]]);
+    sol.max_violation = std::max(sol.max_violation, d - s.D - g);
+  }
+  const double tol = 1e-9 + 1e-6 * std::max(d, 0.0);
+  sol.feasible = sol.max_violation <= std::max(tol, 1e-3 * std::max(d, 0.0));
+  return sol;
+}
+
+ZoneConditioning zoneConditioning(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
+                                  int maxStencils) {
+  ZoneConditioning c;
+  const int k = static_cast<int>(zone.size());
+  c.stencils = k;
+  if (k == 0 || k > maxStencils) return c;
+  Eigen::MatrixXd A(k, k);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j <= i; ++j) A(i, j) = A(j, i) = gradientDot(stencils[zone[i]], stencils[zone[j]]);
+  const double maxDiag = A.diagonal().maxCoeff();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A, Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success) return c;
+  c.computed = true;
+  c.lambda_min = std::max(es.eigenvalues().minCoeff(), 0.0);
+  c.lambda_max = es.eigenvalues().maxCoeff();
+  c.condition = c.lambda_min > 1e-15 * c.lambda_max ? c.lambda_max / c.lambda_min
+                                                   : std::numeric_limits<double>::infinity();
+  const double eps = 1e-10 * std::max(maxDiag, 1e-300);
+  c.regularized_condition = (c.lambda_max + eps) / (c.lambda_min + eps);
+  return c;
 }
 
 }  // namespace virtual_tryon

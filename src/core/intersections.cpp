@@ -5,6 +5,8 @@
 #include "fcl_bvh.h"
 
 #include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
+#include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include <algorithm>
 #include <chrono>
@@ -42,11 +44,16 @@ void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
 
   const BodyBVH& bvh = body.bvh();
   auto gModel = buildFclModel<FclModel>(garment.V, garment.F, faces);
-  fcl::CollisionObjectd gObject(gModel, fcl::Transform3d::Identity());
 
   fcl::CollisionRequestd request(std::numeric_limits<std::size_t>::max() / 2, false);
   fcl::CollisionResultd result;
-  fcl::collide(bvh.object.get(), &gObject, request, result);
+  // fcl::collide copies both AABB models on every call (its BVHCollideImpl), so each detection
+  // would cost O(body size) however few garment faces it tests. The traversal itself reads the
+  // models and, with identity transforms, leaves them as they are.
+  fcl::detail::MeshCollisionTraversalNode<fcl::AABBd> node;
+  fcl::Transform3d tfBody = fcl::Transform3d::Identity(), tfGarment = fcl::Transform3d::Identity();
+  if (!fcl::detail::initialize(node, *bvh.model, tfBody, *gModel, tfGarment, request, result)) return;
+  fcl::detail::collide(&node);
   std::vector<fcl::Contactd> contacts;
   result.getContacts(contacts);
 

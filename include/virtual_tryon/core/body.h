@@ -34,6 +34,8 @@ class Body {
   const EdgeTopology& topology() const { return topology_; }
   bool closed() const { return topology_.closed(); }
   double meanEdgeLength() const { return mean_edge_length_; }
+  // Signed enclosed volume (mesh.h signedVolume), m^3: negative for a closed body wound inside out.
+  double signedVolume() const { return signed_volume_; }
   const Eigen::Vector3d& boxMin() const { return box_min_; }  // axis-aligned bounds
   const Eigen::Vector3d& boxMax() const { return box_max_; }
 
@@ -60,6 +62,7 @@ class Body {
   mutable MatrixX3d edge_normals_;
   EdgeTopology topology_;
   double mean_edge_length_ = 0;
+  double signed_volume_ = 0;
   Eigen::Vector3d box_min_{0, 0, 0}, box_max_{0, 0, 0};
 
   mutable std::once_flag bvh_once_;

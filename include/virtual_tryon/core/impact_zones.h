@@ -19,6 +19,7 @@ namespace virtual_tryon {
 
 // Groups stencils that share garment vertices. Returns the zones as lists of stencil indices
 // (each list sorted; zones ordered by their first stencil). `numVertices` is the garment's #V.
+// Cost O(s log s) in the number of stencils s, whatever numVertices.
 std::vector<std::vector<int>> groupImpactZones(const std::vector<Stencil>& stencils, int numVertices);
 
 struct ZoneSolution {
@@ -35,5 +36,26 @@ struct ZoneSolution {
 // Solves one zone for clearance d (metres).
 ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
                              double d);
+
+// The baseline of ZoneSolver::PerStencilProjection (not the paper's method): every stencil on its
+// own, lambda_i = max(0, (d - D_i) / |grad_i|^2), and each vertex moved by the mean of the
+// displacements lambda_i w_ij n_i of the stencils that move it. One ZoneSolution over all the
+// stencils' vertices; `feasible` and `max_violation` say whether the averaged move meets every
+// constraint (it need not); condition_estimate stays 1 (nothing is factorized).
+ZoneSolution projectStencilsIndependently(const std::vector<Stencil>& stencils, double d);
+
+// Conditioning of a zone's matrix A = Dx^T Dx (k by k), from its eigenvalues (dense; zones of up
+// to `maxStencils` stencils, else computed = false). condition = lambda_max / lambda_min, +inf
+// when A is singular (lambda_min <= 1e-15 lambda_max: duplicate or dependent stencils);
+// regularized_condition is that of A + eps I with the solver's Tikhonov eps = 1e-10 max diag(A).
+struct ZoneConditioning {
+  bool computed = false;
+  int stencils = 0;
+  double lambda_min = 0, lambda_max = 0;
+  double condition = 1;
+  double regularized_condition = 1;
+};
+ZoneConditioning zoneConditioning(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
+                                  int maxStencils = 400);
 
 }  // namespace virtual_tryon

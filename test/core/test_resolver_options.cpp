@@ -1,0 +1,239 @@
+// Resolver options used by the evaluation: the per-iteration trace and its observer, the
+// per-stencil baseline solver, the time budget and the best state, the inside-out body; and the
+// zone conditioning report.
+#include "virtual_tryon/core/impact_zones.h"
+#include "virtual_tryon/core/penetration_resolver.h"
+#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/reference_bvh.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+using namespace virtual_tryon;
+using V3 = Eigen::Vector3d;
+
+namespace {
+
+Stencil vertexStencil(int v, const V3& n, double D) {
+  Stencil s;
+  s.count = 1;
+  s.vertex = {{v, -1, -1}};
+  s.normal = n.normalized();
+  s.D = D;
+  return s;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TEST(ResolverOptions, TraceFollowsTheRunAndObserverTimeIsLeftOut) {
+  ResolveScene s = makeWrinkledTubeScene(48, 30);
+  Body b(s.body);
+  b.bvh();
+  ReferenceReferee ref(s.body);
+  ResolverParams p;
+  int calls = 0;
+  std::vector<std::size_t> independent;
+  p.on_iteration = [&](const ResolverIteration&, const TriMesh& g) {
+    ++calls;
+    const ReferenceCounts c = ref.count(g);
+    independent.push_back(c.garment_edge_crossings + c.body_edge_crossings);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const ResolverReport rep = resolvePenetrations(b, s.garment, p);
+  const double wall = secondsSince(t0);
+  ASSERT_TRUE(rep.converged) << rep.reason;
+  ASSERT_GE(rep.trace.size(), 2u);
+  EXPECT_EQ(calls, static_cast<int>(rep.trace.size()));
+  EXPECT_EQ(rep.trace.front().iteration, 0);
+  EXPECT_EQ(rep.trace.front().garment_edge_crossings, rep.garment_edge_crossings_before);
+  EXPECT_EQ(rep.trace.front().body_edge_crossings, rep.body_edge_crossings_before);
+  EXPECT_EQ(rep.trace.back().iteration, rep.iterations);
+  EXPECT_EQ(rep.trace.back().garment_edge_crossings + rep.trace.back().body_edge_crossings, 0u);
+  for (std::size_t i = 1; i < rep.trace.size(); ++i) {
+    EXPECT_GE(rep.trace[i].seconds, rep.trace[i - 1].seconds);
+    EXPECT_GT(rep.trace[i].stencils, 0u);
+    EXPECT_GT(rep.trace[i].impact_zones, 0u);
+  }
+  EXPECT_GT(independent.front(), 100u);
+  EXPECT_EQ(independent.back(), 0u);
+  // The observer slept 20 ms per call; none of it is in the resolver's times.
+  EXPECT_LE(rep.seconds_total, wall - 0.02 * calls + 1e-3);
+  EXPECT_LE(rep.trace.back().seconds, rep.seconds_total);
+}
+
+TEST(ResolverOptions, PerStencilProjectionIsTheBaselineWithoutZones) {
+  // One vertex behind two faces at right angles: the zone solve meets both constraints at once;
+  // the independent projections, averaged, meet neither.
+  const std::vector<Stencil> st = {vertexStencil(0, V3(1, 0, 0), -0.01), vertexStencil(0, V3(0, 1, 0), -0.01)};
+  const ZoneSolution zone = solveImpactZone(st, {0, 1}, 0.001);
+  EXPECT_TRUE(zone.feasible);
+  EXPECT_NEAR((zone.displacement[0] - V3(0.011, 0.011, 0)).norm(), 0, 1e-12);
+  const ZoneSolution jac = projectStencilsIndependently(st, 0.001);
+  ASSERT_EQ(jac.vertices, std::vector<int>{0});
+  EXPECT_NEAR((jac.displacement[0] - V3(0.0055, 0.0055, 0)).norm(), 0, 1e-12);
+  EXPECT_FALSE(jac.feasible);
+  EXPECT_NEAR(jac.max_violation, 0.0055, 1e-12);
+
+  ResolveScene s = makeWrinkledTubeScene(48, 30);
+  Body b(s.body);
+  ResolverParams p;
+  p.solver = ZoneSolver::PerStencilProjection;
+  const ResolverReport rep = resolvePenetrations(b, s.garment, p);
+  EXPECT_EQ(rep.impact_zones, 0u);
+  EXPECT_GE(rep.iterations, 1);
+  for (const auto& it : rep.trace) EXPECT_EQ(it.impact_zones, 0u);
+  // Whatever it reaches, the report describes the garment it leaves.
+  TriMesh again = s.garment;
+  ResolverParams count;
+  count.max_iterations = 0;
+  const ResolverReport recount = resolvePenetrations(b, again, count);
+  EXPECT_EQ(recount.garment_edge_crossings_before, rep.garment_edge_crossings_after);
+  EXPECT_EQ(recount.body_edge_crossings_before, rep.body_edge_crossings_after);
+}
+
+TEST(ResolverOptions, TimeBudgetStopsWithTheBestStateAndSaysSo) {
+  ResolveScene s = makeWrinkledTubeScene(48, 30);
+  const TriMesh start = s.garment;
+  Body b(s.body);
+  ResolverParams p;
+  p.time_budget = 1e-9;  // spent by the first detection
+  const ResolverReport rep = resolvePenetrations(b, s.garment, p);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_TRUE(rep.time_budget_spent);
+  EXPECT_NE(rep.reason.find("time budget"), std::string::npos) << rep.reason;
+  EXPECT_EQ(rep.iterations, 0);
+  EXPECT_EQ((s.garment.V - start.V).norm(), 0.0);
+  EXPECT_EQ(rep.garment_edge_crossings_after, rep.garment_edge_crossings_before);
+
+  // A budget spent half-way: the observer burns it after the first round.
+  TriMesh g = start;
+  ResolverParams q;
+  q.time_budget = 0.05;
+  q.on_iteration = [](const ResolverIteration& it, const TriMesh&) {
+    if (it.iteration == 1) {
+      const auto t0 = std::chrono::steady_clock::now();
+      while (secondsSince(t0) < 0.06) {
+      }
+    }
+  };
+  // Observer time does not count against the budget either: this run converges.
+  const ResolverReport full = resolvePenetrations(b, g, q);
+  EXPECT_TRUE(full.converged) << full.reason;
+  EXPECT_FALSE(full.time_budget_spent);
+}
+
+TEST(ResolverOptions, AStopWithoutConvergingReturnsTheStateWithTheSmallestError) {
+  // The error is crossings plus vertices inside; the trace's inside counts (tracked per moved
+  // vertex) must agree with a full classification of the state returned.
+  // 41 segments: the tube's vertices do not line up with the capsule's 48 seams (where a crossing
+  // through a shared body edge may count once or twice, and parity says nothing).
+  ResolveScene s = makeWrinkledTubeScene(41, 29);
+  Body b(s.body);
+  int stopped = 0;
+  for (int limit : {1, 2, 3}) {
+    TriMesh g = s.garment;
+    ResolverParams p;
+    p.max_iterations = limit;
+    p.solver = ZoneSolver::PerStencilProjection;
+    const ResolverReport rep = resolvePenetrations(b, g, p);
+    if (rep.converged) continue;
+    ++stopped;
+    std::size_t fewest = static_cast<std::size_t>(-1);
+    for (const auto& it : rep.trace)
+      fewest = std::min(fewest, it.garment_edge_crossings + it.body_edge_crossings + it.vertices_inside);
+    EXPECT_EQ(rep.garment_edge_crossings_after + rep.body_edge_crossings_after + rep.vertices_inside_after, fewest);
+    TriMesh again = g;
+    ResolverParams count;
+    count.max_iterations = 0;
+    const ResolverReport recount = resolvePenetrations(b, again, count);
+    EXPECT_EQ(recount.garment_edge_crossings_before + recount.body_edge_crossings_before +
+                  recount.vertices_inside_before,
+              fewest);
+    // The independent referee sees the same vertices inside.
+    EXPECT_EQ(ReferenceReferee(s.body).count(g).vertices_inside, recount.vertices_inside_before);
+  }
+  EXPECT_GT(stopped, 0);
+}
+
+TEST(ResolverOptions, TracedInsideCountsAgreeWithTheReferee) {
+  // 41 segments: the tube's vertices do not line up with the capsule's 48 seams (where a crossing
+  // through a shared body edge may count once or twice, and parity says nothing).
+  ResolveScene s = makeWrinkledTubeScene(41, 29);
+  Body b(s.body);
+  ReferenceReferee ref(s.body);
+  ResolverParams p;
+  int checked = 0;
+  p.on_iteration = [&](const ResolverIteration& it, const TriMesh& g) {
+    EXPECT_EQ(it.vertices_inside, ref.count(g).vertices_inside) << "iteration " << it.iteration;
+    ++checked;
+  };
+  EXPECT_TRUE(resolvePenetrations(b, s.garment, p).converged);
+  EXPECT_GE(checked, 3);
+}
+
+TEST(ResolverOptions, ADeepRegionKeepsProgressingWhileItsCrossingsStayLevel) {
+  // A strip 0.1 m deep in a capsule: each round clears a row from the rim, the number of
+  // crossings stays about the same, the vertices inside fall. No stall.
+  const TriMesh torso = makeCapsule(0.15, 0.6, V3::Zero(), 48, 24);
+  TriMesh patch = transformed(makePatch(0.4, 0.2, 40, 20), V3::UnitX(), M_PI / 2, V3(0, 0, 0.05));
+  Body b(torso);
+  const ResolverReport rep = resolvePenetrations(b, patch);
+  EXPECT_EQ(rep.reason.find("no progress for"), std::string::npos) << rep.reason;
+  EXPECT_GT(rep.iterations, 12);
+}
+
+TEST(ResolverOptions, AnInsideOutBodyIsRefusedAndNothingMoves) {
+  TriMesh sphere = makeSphere(0.1, V3::Zero(), 3);
+  for (Eigen::Index f = 0; f < sphere.F.rows(); ++f) std::swap(sphere.F(f, 1), sphere.F(f, 2));
+  TriMesh garment = makePatch(0.12, 0.12, 12, 12, V3(0, 0.08, 0));
+  const TriMesh start = garment;
+  Body b(sphere);
+  ASSERT_TRUE(b.closed());
+  ASSERT_LT(b.signedVolume(), 0);
+  const ResolverReport rep = resolvePenetrations(b, garment);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_NE(rep.reason.find("inside out"), std::string::npos) << rep.reason;
+  EXPECT_EQ((garment.V - start.V).norm(), 0.0);
+}
+
+TEST(ResolverOptions, PushOutOfAPieceWhollyInsideIsTracedAndCountedOnce) {
+  const TriMesh arm = makeCylinder(0.05, 0.4, V3::Zero(), 40, 10, true);
+  TriMesh sleeve = makeCylinder(0.04, 0.2, V3::Zero(), 30, 12, false);
+  // A second piece, outside and untouched.
+  sleeve = concatenate(sleeve, makePatch(0.05, 0.05, 5, 5, V3(0, 0.5, 0)));
+  Body b(arm);
+  const ResolverReport rep = resolvePenetrations(b, sleeve);
+  EXPECT_TRUE(rep.converged) << rep.reason;
+  EXPECT_EQ(rep.vertices_inside_before, 30u * 13u);
+  EXPECT_EQ(rep.vertices_inside_after, 0u);
+  bool pushed = false;
+  for (const auto& it : rep.trace) pushed = pushed || it.push_out;
+  EXPECT_TRUE(pushed);
+  EXPECT_EQ(ReferenceReferee(arm).count(sleeve).vertices_inside, 0u);
+}
+
+TEST(ZoneConditioning, EigenvaluesOfDuplicateParallelAndOrthogonalStencils) {
+  const std::vector<Stencil> ortho = {vertexStencil(0, V3(1, 0, 0), -0.01), vertexStencil(0, V3(0, 1, 0), -0.01)};
+  const ZoneConditioning a = zoneConditioning(ortho, {0, 1});
+  ASSERT_TRUE(a.computed);
+  EXPECT_NEAR(a.condition, 1.0, 1e-12);
+  const std::vector<Stencil> dup = {vertexStencil(0, V3(0, 0, 1), -0.01), vertexStencil(0, V3(0, 0, 1), -0.01)};
+  const ZoneConditioning b = zoneConditioning(dup, {0, 1});
+  EXPECT_TRUE(std::isinf(b.condition));
+  EXPECT_NEAR(b.regularized_condition, 2.0 / 1e-10, 1e2);
+  const double th = 1e-3;
+  const std::vector<Stencil> par = {vertexStencil(0, V3(0, 0, 1), -0.01),
+                                    vertexStencil(0, V3(std::sin(th), 0, std::cos(th)), -0.01)};
+  const ZoneConditioning c = zoneConditioning(par, {0, 1});
+  const double cs = std::cos(th);
+  EXPECT_NEAR(c.condition, (1 + cs) / (1 - cs), 1e-3 * (1 + cs) / (1 - cs));
+  EXPECT_FALSE(zoneConditioning(dup, {0, 1}, 1).computed);
+}
