@@ -2,6 +2,7 @@
 
 #include "virtual_tryon/core/point_queries.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -244,7 +245,15 @@ DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& par
   if (params.resolve) {
     const auto t0 = Clock::now();
     rep.draped_vertices = garment.V;
-    rep.resolver = resolvePenetrations(body, garment, params.resolver);
+    // The resolver gets what is left of the drape's budget (at least a millisecond, so that it
+    // always makes its first detection pass and reports), unless its own budget is tighter.
+    ResolverParams resolverParams = params.resolver;
+    if (params.time_budget > 0) {
+      const double left = std::max(1e-3, params.time_budget - since(tStart));
+      if (resolverParams.time_budget <= 0 || resolverParams.time_budget > left)
+        resolverParams.time_budget = left;
+    }
+    rep.resolver = resolvePenetrations(body, garment, resolverParams);
     rep.resolver_run = true;
     rep.seconds_resolve = since(t0);
     rep.penetrating_before_resolve = rep.resolver.vertices_inside_before;

@@ -81,6 +81,8 @@ std::string toJson(const ResolverReport& r) {
       .add("clearance_m", r.clearance)
       .add("mean_displacement_m", r.mean_displacement)
       .add("max_displacement_m", r.max_displacement)
+      .add("time_budget_spent", r.time_budget_spent)
+      .add("max_condition_estimate", r.max_condition_estimate)
       .add("seconds_detection", r.seconds_detection)
       .add("seconds_solve", r.seconds_solve)
       .add("seconds_total", r.seconds_total)

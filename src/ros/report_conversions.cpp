@@ -36,6 +36,8 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   m.clearance = r.clearance;
   m.mean_displacement = r.mean_displacement;
   m.max_displacement = r.max_displacement;
+  m.time_budget_spent = r.time_budget_spent;
+  m.max_condition_estimate = r.max_condition_estimate;
   m.seconds_detection = r.seconds_detection;
   m.seconds_solve = r.seconds_solve;
   m.seconds_total = r.seconds_total;

@@ -137,6 +137,7 @@ void TryonNode::readParameters() {
   p.stall_iterations = readCount(pnh_, "stall_iterations", d.stall_iterations);
   pnh_.param("check_inside", p.check_inside, d.check_inside);
   pnh_.param("push_out_inside", p.push_out_inside, d.push_out_inside);
+  p.time_budget = readDouble(pnh_, "time_budget", d.time_budget, false);
   settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
   pnh_.param("body_frame", settings_.body_frame, std::string());
   pnh_.param("auto_fit", settings_.auto_fit, false);
