@@ -225,7 +225,8 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   const std::string& patternFrame = req.pattern.header.frame_id;
   if (!patternFrame.empty() && patternFrame != body.frame) {
     Eigen::Isometry3d T;
-    if (!lookupTransform(patternFrame, body.frame, "pattern", T, error)) return false;
+    if (!lookupTransform(patternFrame, body.frame, "pattern", req.pattern.header.stamp, T, error))
+      return false;
     for (PatternPanel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
   }
 

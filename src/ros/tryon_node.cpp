@@ -224,8 +224,8 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
   return true;
 }
 
-bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& frame,
-                               std::string& error) {
+bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh,
+                               std_msgs::Header& header, std::string& error) {
   if (isEmpty(msg)) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!topic_garment_.mesh) {
@@ -234,18 +234,26 @@ bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, 
       return false;
     }
     mesh = *topic_garment_.mesh;
-    frame = topic_garment_.header.frame_id;
+    header = topic_garment_.header;
     return true;
   }
-  frame = frameOf(msg);
+  header = msg.header;
+  header.frame_id = frameOf(msg);
   return meshFromMsg(msg, "garment", mesh, error);
 }
 
 bool TryonNode::lookupTransform(const std::string& from, const std::string& to,
-                                const std::string& what, Eigen::Isometry3d& T, std::string& error) {
+                                const std::string& what, const ros::Time& stamp,
+                                Eigen::Isometry3d& T, std::string& error) {
   try {
+    // At the message's stamp (a zero stamp: the latest), waiting up to tf_timeout for it.
     T = tf2::transformToEigen(
-        tf_buffer_.lookupTransform(to, from, ros::Time(0), ros::Duration(settings_.tf_timeout)));
+        tf_buffer_.lookupTransform(to, from, stamp, ros::Duration(settings_.tf_timeout)));
+  } catch (const tf2::ExtrapolationException& e) {
+    error = "the transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
+            "' is stale: none at the " + what + "'s stamp " + std::to_string(stamp.sec) + "." +
+            std::to_string(stamp.nsec / 1000000) + " s within " + seconds(settings_.tf_timeout) + " s: " + e.what();
+    return false;
   } catch (const tf2::TransformException& e) {
     error = "no transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
             "' within " + seconds(settings_.tf_timeout) + " s: " + e.what();
@@ -254,10 +262,10 @@ bool TryonNode::lookupTransform(const std::string& from, const std::string& to,
   return true;
 }
 
-bool TryonNode::transformInto(const std::string& from, const std::string& to, TriMesh& mesh,
-                              std::string& error) {
+bool TryonNode::transformInto(const std::string& from, const std::string& to, const ros::Time& stamp,
+                              TriMesh& mesh, std::string& error) {
   Eigen::Isometry3d T;
-  if (!lookupTransform(from, to, "garment", T, error)) return false;
+  if (!lookupTransform(from, to, "garment", stamp, T, error)) return false;
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
     mesh.V.row(i) = (T * Eigen::Vector3d(mesh.V.row(i).transpose())).transpose();
   return true;
@@ -267,11 +275,12 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
                         virtual_tryon::ResolvePenetration::Response& res, std::string& error) {
   BodyState body;
   TriMesh garment;
-  std::string garmentFrame;
-  if (!requestBody(req.body, body, error) || !requestGarment(req.garment, garment, garmentFrame, error))
+  std_msgs::Header garmentHeader;
+  if (!requestBody(req.body, body, error) || !requestGarment(req.garment, garment, garmentHeader, error))
     return false;
+  const std::string& garmentFrame = garmentHeader.frame_id;
   if (!garmentFrame.empty() && garmentFrame != body.frame &&
-      !transformInto(garmentFrame, body.frame, garment, error))
+      !transformInto(garmentFrame, body.frame, garmentHeader.stamp, garment, error))
     return false;
 
   ResolverParams params = settings_.resolver;

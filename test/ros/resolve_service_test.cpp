@@ -16,6 +16,7 @@
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
 #include <virtual_tryon/ResolvePenetration.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -300,4 +301,33 @@ int main(int argc, char** argv) {
   spinner.stop();
   ros::shutdown();
   return result;
+}
+
+TEST(TryonNode, AStaleGarmentTransformFailsWithinTheTimeout) {
+  // A moving frame whose only transform is 30 s old; the garment is stamped now.
+  static tf2_ros::TransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped t;
+  t.header.frame_id = "body";
+  t.child_frame_id = "stale_frame";
+  t.header.stamp = ros::Time::now() - ros::Duration(30.0);
+  t.transform.rotation.w = 1.0;
+  for (int i = 0; i < 5; ++i) {  // the node's listener may still be connecting
+    broadcaster.sendTransform(t);
+    ros::WallDuration(0.1).sleep();
+  }
+  const vt::ResolveScene s = vt::makeWrinkledTubeScene();
+  const auto start = std::chrono::steady_clock::now();
+  const ResolvePenetration::Response res =
+      call(toMsg(s.body, "body"), toMsg(s.garment, "stale_frame"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "stale")) << res.message;
+  EXPECT_TRUE(contains(res.message, "'stale_frame'")) << res.message;
+  EXPECT_LT(seconds, 5.0) << "tf_timeout is 0.5 s";
+  // The same garment stamped when the transform was valid goes through.
+  pcl_msgs::PolygonMesh old = toMsg(s.garment, "stale_frame");
+  old.header.stamp = t.header.stamp;
+  old.cloud.header.stamp = t.header.stamp;
+  EXPECT_TRUE(call(toMsg(s.body, "body"), old).success);
 }

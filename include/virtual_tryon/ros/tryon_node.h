@@ -136,15 +136,17 @@ class TryonNode {
   // Body for a request: the topic body when the request's is empty, else a Body built from the
   // request (or a cached one when its geometry is identical).
   bool requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, std::string& error);
-  bool requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& frame,
+  // The request's garment, or the topic's when the request's is empty; `header` gets its frame
+  // and stamp.
+  bool requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std_msgs::Header& header,
                       std::string& error);
   // Moves garment vertices from `from` into `to` with tf2; false with `error` when no transform.
-  bool transformInto(const std::string& from, const std::string& to, TriMesh& mesh,
-                     std::string& error);
+  bool transformInto(const std::string& from, const std::string& to, const ros::Time& stamp,
+                     TriMesh& mesh, std::string& error);
   // The transform taking points in `from` to `to` (waits up to tf_timeout); false with an error
   // naming `what` ("garment", "pattern") and both frames.
   bool lookupTransform(const std::string& from, const std::string& to, const std::string& what,
-                       Eigen::Isometry3d& T, std::string& error);
+                       const ros::Time& stamp, Eigen::Isometry3d& T, std::string& error);
   // The frame a body message is in, after ~body_frame; false when they conflict.
   bool bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame, std::string& error) const;
 
