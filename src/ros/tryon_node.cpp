@@ -76,6 +76,12 @@ std::string seconds(double s) {
   return buf;
 }
 
+std::string stampText(const ros::Time& t) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%u.%03u", t.sec, t.nsec / 1000000u);
+  return buf;
+}
+
 std::string summary(const ResolverReport& r) {
   char buf[320];
   if (r.converged)
@@ -251,8 +257,7 @@ bool TryonNode::lookupTransform(const std::string& from, const std::string& to,
         tf_buffer_.lookupTransform(to, from, stamp, ros::Duration(settings_.tf_timeout)));
   } catch (const tf2::ExtrapolationException& e) {
     error = "the transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
-            "' is stale: none at the " + what + "'s stamp " + std::to_string(stamp.sec) + "." +
-            std::to_string(stamp.nsec / 1000000) + " s within " + seconds(settings_.tf_timeout) + " s: " + e.what();
+            "' is stale: none at the " + what + "'s stamp " + stampText(stamp) + " s within " + seconds(settings_.tf_timeout) + " s: " + e.what();
     return false;
   } catch (const tf2::TransformException& e) {
     error = "no transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
