@@ -26,6 +26,8 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -127,15 +129,21 @@ void addPolygon(const int* idx, std::size_t n, std::vector<int>& tris, MeshReadI
 }
 
 bool finish(const std::string& path, std::vector<double>& coords, std::vector<int>& tris,
-            TriMesh& mesh, std::string& error) {
+            TriMesh& mesh, std::string& error, const MeshLimits& limits) {
   const Eigen::Index nv = static_cast<Eigen::Index>(coords.size() / 3);
   const Eigen::Index nf = static_cast<Eigen::Index>(tris.size() / 3);
+  const std::string tooBig = checkMeshSize(static_cast<std::uint64_t>(nv), static_cast<std::uint64_t>(nf),
+                                           limits, "the mesh");
+  if (!tooBig.empty()) {
+    error = fail(path, tooBig);
+    return false;
+  }
   if (nv == 0) {
     error = fail(path, "no vertices");
     return false;
   }
   if (nf == 0) {
-    error = fail(path, "no usable triangle (" + std::to_string(nv) + " vertices)");
+    error = fail(path, "has no faces (no usable triangle; " + std::to_string(nv) + " vertices)");
     return false;
   }
   mesh.V = Eigen::Map<const MatrixX3d>(coords.data(), nv, 3);
@@ -166,7 +174,8 @@ bool parseDouble(const char* b, const char* e, double& value) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
   std::string text;
   if (!readWholeFile(path, text, error)) return false;
 
@@ -209,9 +218,11 @@ bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
         if (t == te) return lineError("vertex with fewer than 3 coordinates");
         if (!parseDouble(t, te, xyz[k]))
           return lineError("bad vertex coordinate '" + std::string(t, te) + "'");
-        if (!std::isfinite(xyz[k])) return lineError("non-finite vertex coordinate");
+        if (!std::isfinite(xyz[k])) return lineError("non-finite vertex coordinate (NaN or Inf)");
         t = te;
       }
+      if (coords.size() / 3 >= limits.max_vertices)
+        return lineError(checkMeshSize(coords.size() / 3 + 1, 0, limits, "the mesh"));
       coords.insert(coords.end(), xyz, xyz + 3);
     } else if (kwLen == 1 && kw[0] == 'f') {
       poly.clear();
@@ -246,6 +257,8 @@ bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
         poly.push_back(static_cast<int>(idx));
         t = skipSpace(te, eol);
       }
+      if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
+        return lineError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
       addPolygon(poly.data(), poly.size(), tris, info);
     }
     p = next;
@@ -257,22 +270,31 @@ bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
     return lineError("face index " + std::to_string(maxIndex + 1) + " out of range: the file has " +
                      std::to_string(nv) + " vertices");
   }
-  return finish(path, coords, tris, mesh, error);
+  return finish(path, coords, tris, mesh, error, limits);
 }
 
 // ----------------------------------------------------------------------------------------------
 // pcl::PolygonMesh -> TriMesh, reading x, y, z by name and offset (FLOAT32 or FLOAT64).
 
 bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, TriMesh& mesh,
-                          std::string& error, MeshReadInfo& info) {
+                          std::string& error, MeshReadInfo& info, const MeshLimits& limits) {
   const pcl::PCLPointCloud2& c = pm.cloud;
   const std::uint64_t n = static_cast<std::uint64_t>(c.width) * c.height;
   if (n == 0) {
     error = fail(path, "no vertices");
     return false;
   }
-  if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
-    error = fail(path, "too many vertices");
+  std::uint64_t triangles = 0;
+  for (const auto& poly : pm.polygons)
+    if (poly.vertices.size() > 2) triangles += poly.vertices.size() - 2;
+  const std::string tooBig = checkMeshSize(n, triangles, limits, "the mesh");
+  if (!tooBig.empty()) {
+    error = fail(path, tooBig);
+    return false;
+  }
+  if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ||
+      triangles > static_cast<std::uint64_t>(std::numeric_limits<int>::max() / 3)) {
+    error = fail(path, "too many vertices or triangles");
     return false;
   }
   if (c.is_bigendian) {
@@ -343,19 +365,196 @@ bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, T
     }
     addPolygon(poly.data(), poly.size(), tris, info);
   }
-  return finish(path, coords, tris, mesh, error);
+  return finish(path, coords, tris, mesh, error, limits);
 }
 
-bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+// Size of one value of a PLY scalar type, 0 when unknown.
+std::size_t plyTypeSize(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+// Reads the PLY header and checks its element counts against `limits` and against the bytes that
+// follow the header, before PCL's reader allocates a cloud of the declared size. Anything else
+// (unknown types, odd properties) is left to PCL.
+bool checkPlyHeader(const std::string& path, const MeshLimits& limits, std::string& error) {
+  constexpr std::size_t kMaxHeader = 1 << 20;
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    error = fail(path, std::string("cannot open: ") + std::strerror(errno));
+    return false;
+  }
+  std::string head;
+  std::size_t headerEnd = std::string::npos;
+  char buf[1 << 14];
+  std::size_t got;
+  while (headerEnd == std::string::npos && head.size() < kMaxHeader &&
+         (got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
+    head.append(buf, got);
+    const std::size_t e = head.find("end_header");
+    if (e != std::string::npos) {
+      const std::size_t nl = head.find('\n', e);
+      if (nl != std::string::npos) headerEnd = nl + 1;
+    }
+  }
+  if (head.compare(0, 3, "ply") != 0) {
+    error = fail(path, "not a PLY file (it does not start with 'ply')");
+    return false;
+  }
+  if (headerEnd == std::string::npos) {
+    error = fail(path, "PLY header has no 'end_header' line within the first " +
+                           std::to_string(kMaxHeader) + " bytes");
+    return false;
+  }
+  std::fseek(f.get(), 0, SEEK_END);
+  const long size = std::ftell(f.get());
+  const std::uint64_t body = size > 0 && static_cast<std::uint64_t>(size) > headerEnd
+                                 ? static_cast<std::uint64_t>(size) - headerEnd
+                                 : 0;
+
+  struct Element {
+    std::string name;
+    std::uint64_t count = 0;
+    std::uint64_t bytes = 0;  // binary: fixed bytes per row (list counts, no items)
+    std::uint64_t values = 0;  // scalar properties and lists per row
+  };
+  std::vector<Element> elements;
+  bool ascii = false;
+  std::istringstream lines(head.substr(0, headerEnd));
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "format") {
+      std::string fmt;
+      words >> fmt;
+      ascii = fmt == "ascii";
+    } else if (key == "element") {
+      Element e;
+      std::string count;
+      words >> e.name >> count;
+      const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
+      if (r.ec != std::errc() || r.ptr != count.data() + count.size()) {
+        error = fail(path, "PLY header: bad element count '" + count + "' for element '" + e.name + "'");
+        return false;
+      }
+      elements.push_back(e);
+    } else if (key == "property" && !elements.empty()) {
+      std::string type;
+      words >> type;
+      if (type == "list") words >> type;  // the count type: a row holds at least the count
+      elements.back().bytes += plyTypeSize(type);
+      elements.back().values += 1;
+    }
+  }
+  std::uint64_t vertices = 0, faces = 0, needed = 0;
+  for (const Element& e : elements) {
+    if (e.name == "vertex") vertices = e.count;
+    if (e.name == "face") faces = e.count;
+    if (e.count > limits.max_vertices + limits.max_faces) {
+      error = fail(path, "PLY header declares " + std::to_string(e.count) + " '" + e.name +
+                             "' elements, over the limits (MeshLimits)");
+      return false;
+    }
+  }
+  const std::string tooBig = checkMeshSize(vertices, faces, limits, "the PLY header: the mesh");
+  if (!tooBig.empty()) {
+    error = fail(path, tooBig);
+    return false;
+  }
+  // Counts are within the limits here, so these products cannot overflow.
+  for (const Element& e : elements) needed += e.count * (ascii ? 2 * e.values : e.bytes);
+  if (ascii && needed > 0) needed -= 1;  // the last value needs no separator
+  if (needed > body) {
+    error = fail(path, "PLY header declares " + std::to_string(vertices) + " vertices and " +
+                           std::to_string(faces) + " faces (at least " + std::to_string(needed) +
+                           " bytes of data), but only " + std::to_string(body) + " bytes follow it");
+    return false;
+  }
+  return true;
+}
+
+// Whether VTK's vtkSTLReader will read `head` (the file's first up to 256 bytes) as binary STL:
+// it asks vtksys::SystemTools::DetectFileType, which calls a file binary when 5 % or more of those
+// bytes are not text (printable ASCII, '\n', '\r', '\t'). We err towards binary (4 %).
+bool vtkReadsAsBinary(const unsigned char* head, std::size_t n) {
+  if (n == 0) return false;
+  std::size_t text = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned char c = head[i];
+    text += (c >= 0x20 && c <= 0x7E) || c == '\n' || c == '\r' || c == '\t';
+  }
+  return static_cast<double>(n - text) / static_cast<double>(n) >= 0.04;
+}
+
+// Checks an STL file before VTK reads it. Binary STL is an 80-byte header, a triangle count and
+// 50 bytes per triangle; vtkSTLReader allocates for max(declared count, count from the file size)
+// before reading, so a binary file whose header declares more triangles than it holds is refused
+// here (4 bytes could otherwise ask for 2^31 triangles). Then the triangle count (ASCII: at most
+// one per 60 bytes; a facet takes well over that) is checked against `limits`.
+bool checkStlSize(const std::string& path, const MeshLimits& limits, std::string& error) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) {
+    error = fail(path, std::strerror(errno));
+    return false;
+  }
+  const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    error = fail(path, std::string("cannot open: ") + std::strerror(errno));
+    return false;
+  }
+  unsigned char head[256] = {0};
+  const std::size_t got = std::fread(head, 1, sizeof head, f.get());
+  std::uint32_t declared = 0;
+  if (got >= 84)
+    declared = static_cast<std::uint32_t>(head[80]) | static_cast<std::uint32_t>(head[81]) << 8 |
+               static_cast<std::uint32_t>(head[82]) << 16 | static_cast<std::uint32_t>(head[83]) << 24;
+  const std::uint64_t held = size >= 84 ? (size - 84) / 50 : 0;
+  const bool exact = got >= 84 && size == 84 + 50 * static_cast<std::uint64_t>(declared);
+  const bool binary = exact || vtkReadsAsBinary(head, got);
+  std::uint64_t triangles = size / 60;  // ASCII
+  if (binary) {
+    if (got < 84) {
+      error = fail(path, "binary STL of " + std::to_string(size) + " bytes is shorter than its 84-byte header");
+      return false;
+    }
+    if (declared > held && declared <= static_cast<std::uint32_t>(std::numeric_limits<int>::max())) {
+      error = fail(path, "binary STL header declares " + std::to_string(declared) + " triangles but the file (" +
+                             std::to_string(size) + " bytes) holds " + std::to_string(held) +
+                             " (84 bytes of header, 50 per triangle)");
+      return false;
+    }
+    triangles = held;
+  }
+  if (triangles > limits.max_faces) {
+    error = fail(path, "STL file of " + std::to_string(size) + " bytes holds " +
+                           (binary ? std::string("") : std::string("up to ")) + std::to_string(triangles) +
+                           " triangles, over the limit of " + std::to_string(limits.max_faces) +
+                           " triangles (MeshLimits::max_faces)");
+    return false;
+  }
+  return true;
+}
+
+bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
+  if (!checkPlyHeader(path, limits, error)) return false;
   pcl::PolygonMesh pm;
   if (pcl::io::loadPLYFile(path, pm) < 0) {
     error = fail(path, "PCL could not parse it as PLY");
     return false;
   }
-  return polygonMeshToTriMesh(path, pm, mesh, error, info);
+  return polygonMeshToTriMesh(path, pm, mesh, error, info, limits);
 }
 
-bool readStl(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info) {
+bool readStl(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
+  if (!checkStlSize(path, limits, error)) return false;
   // VTK's vtkSTLReader (behind PCL) merges exactly-equal corner coordinates into one vertex,
   // numbered in order of first appearance, and drops triangles that become degenerate by it.
   pcl::PolygonMesh pm;
@@ -363,7 +562,7 @@ bool readStl(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
     error = fail(path, "PCL/VTK could not read it as STL (or it holds no triangle)");
     return false;
   }
-  return polygonMeshToTriMesh(path, pm, mesh, error, info);
+  return polygonMeshToTriMesh(path, pm, mesh, error, info, limits);
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -515,7 +714,8 @@ bool writeStl(const std::string& path, const TriMesh& mesh, std::string& error) 
 
 }  // namespace
 
-bool readMesh(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo* info) {
+bool readMesh(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo* info,
+              const MeshLimits& limits) {
   const Format format = formatOf(path);
   if (format == Format::Unknown) {
     error = unknownFormatMessage(path);
@@ -526,9 +726,9 @@ bool readMesh(const std::string& path, TriMesh& mesh, std::string& error, MeshRe
   TriMesh result;
   bool ok = false;
   switch (format) {
-    case Format::Obj: ok = readObj(path, result, error, localInfo); break;
-    case Format::Ply: ok = readPly(path, result, error, localInfo); break;
-    case Format::Stl: ok = readStl(path, result, error, localInfo); break;
+    case Format::Obj: ok = readObj(path, result, error, localInfo, limits); break;
+    case Format::Ply: ok = readPly(path, result, error, localInfo, limits); break;
+    case Format::Stl: ok = readStl(path, result, error, localInfo, limits); break;
     case Format::Unknown: break;
   }
   if (!ok) return false;

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -323,4 +324,63 @@ TEST_F(MeshIoTest, VertexOrderAndUnusedVerticesSurviveObjAndPly) {
     expectSameTopology(m, r);
     EXPECT_TRUE((m.V.array() == r.V.array()).all()) << name;
   }
+}
+
+// Found by fuzz_mesh_io: a binary STL whose header declares 538,969,088 triangles in a 325-byte
+// file. vtkSTLReader allocates for the declared count before reading (19 GB here) and the
+// process ran out of memory; readMesh now refuses such a file before VTK sees it.
+TEST_F(MeshIoTest, BinaryStlDeclaringMoreTrianglesThanItHoldsIsRefused) {
+  std::string bytes(80, '\0');
+  bytes.replace(0, 40, "Visualization Toolkit generated SLA File");
+  const std::uint32_t declared = 0x20200400u;
+  for (int k = 0; k < 4; ++k) bytes += static_cast<char>((declared >> (8 * k)) & 0xFF);
+  bytes += std::string(2 * 50, '\0');  // two (all-zero) triangles
+  const std::string p = writeText("bogus_count.stl", bytes);
+  vt::TriMesh r;
+  std::string error;
+  EXPECT_FALSE(vt::readMesh(p, r, error));
+  EXPECT_NE(error.find("declares 538969088 triangles but the file (184 bytes) holds 2"), std::string::npos) << error;
+  // A count below what the file holds is what VTK corrects silently: still read.
+  const vt::TriMesh tet = tetrahedron();
+  const std::string q = path("low_count.stl");
+  ASSERT_TRUE(vt::writeMesh(q, tet, error)) << error;
+  {
+    std::fstream f(q, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(80);
+    const char one[4] = {1, 0, 0, 0};
+    f.write(one, 4);
+  }
+  ASSERT_TRUE(vt::readMesh(q, r, error)) << error;
+  EXPECT_EQ(r.F.rows(), 4);
+}
+
+TEST_F(MeshIoTest, SizeLimitsAreCheckedBeforeReading) {
+  vt::MeshLimits small;
+  small.max_vertices = 3;
+  small.max_faces = 3;
+  vt::TriMesh r;
+  std::string error;
+  // OBJ: the fourth vertex is refused where it is read.
+  const std::string obj = writeText("four.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  EXPECT_FALSE(vt::readMesh(obj, r, error, nullptr, small));
+  EXPECT_NE(error.find("line 4: the mesh has 4 vertices, over the limit of 3 vertices"), std::string::npos) << error;
+  // PLY: refused from the header, with the default limits, before PCL allocates the cloud.
+  const std::string ply = writeText("huge.ply",
+                                    "ply\nformat binary_little_endian 1.0\nelement vertex 2000001\n"
+                                    "property float x\nproperty float y\nproperty float z\nend_header\n");
+  EXPECT_FALSE(vt::readMesh(ply, r, error));
+  EXPECT_NE(error.find("2000001 vertices, over the limit of 2000000 vertices"), std::string::npos) << error;
+  // PLY whose header promises more than the file holds.
+  const std::string shortPly = writeText("short.ply",
+                                         "ply\nformat binary_little_endian 1.0\nelement vertex 100\n"
+                                         "property double x\nproperty double y\nproperty double z\n"
+                                         "element face 10\nproperty list uchar int vertex_indices\nend_header\n" +
+                                             std::string(24, '\0'));
+  EXPECT_FALSE(vt::readMesh(shortPly, r, error));
+  EXPECT_NE(error.find("(at least 2410 bytes of data), but only 24 bytes follow it"), std::string::npos) << error;
+  // STL: the tetrahedron's 4 triangles over a limit of 3.
+  const std::string stl = path("tet.stl");
+  ASSERT_TRUE(vt::writeMesh(stl, tetrahedron(), error)) << error;
+  EXPECT_FALSE(vt::readMesh(stl, r, error, nullptr, small));
+  EXPECT_NE(error.find("holds 4 triangles, over the limit of 3 triangles"), std::string::npos) << error;
 }

@@ -27,9 +27,12 @@ struct MeshReadInfo {
 };
 
 // Reads `path` into `mesh`. Returns false and sets `error` (naming the file and the problem) when
-// the file is missing, unreadable, of an unknown extension, or holds no usable triangle.
+// the file is missing, unreadable, of an unknown extension, holds no usable triangle, or is over
+// `limits`. The limits are checked before anything of the declared size is allocated: OBJ while
+// reading, PLY from its header (whose element counts must also fit in the file), binary STL from
+// its triangle count (which must match the file size) before PCL/VTK read the file.
 bool readMesh(const std::string& path, TriMesh& mesh, std::string& error,
-              MeshReadInfo* info = nullptr);
+              MeshReadInfo* info = nullptr, const MeshLimits& limits = MeshLimits());
 
 // Writes `mesh` to `path` (format by extension) keeping vertex order. Returns false and sets
 // `error` on failure.
