@@ -176,6 +176,11 @@ bool TryonNode::drape(const virtual_tryon::Drape::Request& req,
   res.success = report.success;
   res.report = rc::toMsg(report, params.mode);
   res.message = report.message;
+  for (const std::string& w : validateBody(body.body->mesh()).warnings) {
+    res.report.warnings.push_back(w);
+    res.message += "; warning: " + w;
+  }
+  for (const std::string& w : report.warnings) res.message += "; warning: " + w;
   if (!report.success) {
     ROS_WARN_STREAM("tryon_node: drape failed: " << report.message);
     return true;

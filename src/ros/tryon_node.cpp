@@ -39,7 +39,7 @@ bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, TriM
     error = what + ": " + error;
     return false;
   }
-  const MeshValidation v = validate(mesh, what);
+  const MeshValidation v = what == "body" ? validateBody(mesh) : validate(mesh, what);
   if (!v.ok) {
     error = v.message;
     return false;
@@ -68,6 +68,20 @@ int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
     v = def;
   }
   return v;
+}
+
+// The input warnings for a response message ("; warning: ..." each, "" when none): the body's
+// and the garment's validation warnings (degenerate or duplicate faces, an open or non-manifold
+// body, a size that suggests millimetres) and, with a garment, how the two are placed.
+std::string inputWarnings(const TriMesh& body, const TriMesh* garment) {
+  std::vector<std::string> w = validateBody(body).warnings;
+  if (garment) {
+    for (const std::string& g : validate(*garment, "garment").warnings) w.push_back(g);
+    for (const std::string& g : placementWarnings(body, *garment)) w.push_back(g);
+  }
+  std::string s;
+  for (const std::string& x : w) s += "; warning: " + x;
+  return s;
 }
 
 std::string seconds(double s) {
@@ -286,6 +300,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
       !transformInto(garmentFrame, body.frame, garment, error))
     return false;
 
+  const std::string warnings = inputWarnings(body.body->mesh(), &garment);
   ResolverParams params = settings_.resolver;
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
@@ -298,7 +313,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   rc::toMsg(garment, header, res.garment);
   res.report = rc::toMsg(report);
   res.success = report.converged;
-  res.message = summary(report);
+  res.message = summary(report) + warnings;
   ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
            "%d iterations, %.3f s, %s",
            report.garment_edge_crossings_before, report.body_edge_crossings_before,
