@@ -1,17 +1,19 @@
-// Mesh files: OBJ (own reader and writer), PLY (PCL reader, own double-precision writer),
-// STL (PCL/VTK reader and writer). See mesh_io.h.
+// Mesh files: OBJ and PLY (own readers and writers), STL (PCL/VTK reader and writer, behind our
+// own size checks). See mesh_io.h.
 //
 // Why not PCL for everything:
 //  * pcl::io::loadOBJFile stores coordinates as float32, which would lose the precision the OBJ
 //    writer keeps; the reader below parses doubles (std::from_chars) and is faster.
 //  * pcl::io::savePLYFileBinary(PolygonMesh) only writes float32 x, y, z (and refuses FLOAT64
-//    clouds); the writer below writes `property double`, which PCL's PLY reader reads back.
+//    clouds); the writer below writes `property double`.
+//  * pcl::io::loadPLYFile trusts the header: it allocates what it declares and asserts (aborts the
+//    process) or writes past its buffer on layouts it does not expect; the reader below checks
+//    every count and index against the limits and the file.
 #include "virtual_tryon/core/mesh_io.h"
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/PCLPointField.h>
 #include <pcl/PolygonMesh.h>
-#include <pcl/io/ply_io.h>
 #include <pcl/io/vtk_lib_io.h>
 
 #include <sys/stat.h>
@@ -368,114 +370,302 @@ bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, T
   return finish(path, coords, tris, mesh, error, limits);
 }
 
-// Size of one value of a PLY scalar type, 0 when unknown.
-std::size_t plyTypeSize(const std::string& t) {
-  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-  if (t == "double" || t == "float64") return 8;
-  return 0;
+// ----------------------------------------------------------------------------------------------
+// PLY: own reader (ASCII, binary little- and big-endian). Not PCL's: pcl::PLYReader asserts, or
+// writes past its cloud buffer, on headers it does not expect (fuzz_mesh_io found an abort on a
+// list property of the vertex element) and allocates whatever the header declares.
+
+enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+
+bool hostIsLittleEndian();
+
+bool plyType(const std::string& t, PlyType& out) {
+  static const std::pair<const char*, PlyType> kTypes[] = {
+      {"char", PlyType::Int8},     {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+      {"uint8", PlyType::UInt8},   {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+      {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+      {"int32", PlyType::Int32},   {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+      {"float", PlyType::Float32}, {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+      {"float64", PlyType::Float64}};
+  for (const auto& [name, type] : kTypes)
+    if (t == name) {
+      out = type;
+      return true;
+    }
+  return false;
 }
 
-// Reads the PLY header and checks its element counts against `limits` and against the bytes that
-// follow the header, before PCL's reader allocates a cloud of the declared size. Anything else
-// (unknown types, odd properties) is left to PCL.
-bool checkPlyHeader(const std::string& path, const MeshLimits& limits, std::string& error) {
-  constexpr std::size_t kMaxHeader = 1 << 20;
-  FilePtr f(std::fopen(path.c_str(), "rb"));
-  if (!f) {
-    error = fail(path, std::string("cannot open: ") + std::strerror(errno));
-    return false;
+std::size_t plySize(PlyType t) {
+  switch (t) {
+    case PlyType::Int8: case PlyType::UInt8: return 1;
+    case PlyType::Int16: case PlyType::UInt16: return 2;
+    case PlyType::Int32: case PlyType::UInt32: case PlyType::Float32: return 4;
+    case PlyType::Float64: return 8;
   }
-  std::string head;
-  std::size_t headerEnd = std::string::npos;
-  char buf[1 << 14];
-  std::size_t got;
-  while (headerEnd == std::string::npos && head.size() < kMaxHeader &&
-         (got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
-    head.append(buf, got);
-    const std::size_t e = head.find("end_header");
-    if (e != std::string::npos) {
-      const std::size_t nl = head.find('\n', e);
-      if (nl != std::string::npos) headerEnd = nl + 1;
-    }
-  }
-  if (head.compare(0, 3, "ply") != 0) {
-    error = fail(path, "not a PLY file (it does not start with 'ply')");
-    return false;
-  }
-  if (headerEnd == std::string::npos) {
-    error = fail(path, "PLY header has no 'end_header' line within the first " +
-                           std::to_string(kMaxHeader) + " bytes");
-    return false;
-  }
-  std::fseek(f.get(), 0, SEEK_END);
-  const long size = std::ftell(f.get());
-  const std::uint64_t body = size > 0 && static_cast<std::uint64_t>(size) > headerEnd
-                                 ? static_cast<std::uint64_t>(size) - headerEnd
-                                 : 0;
+  return 8;
+}
 
-  struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::uint64_t bytes = 0;  // binary: fixed bytes per row (list counts, no items)
-    std::uint64_t values = 0;  // scalar properties and lists per row
+bool plyIsInteger(PlyType t) { return t != PlyType::Float32 && t != PlyType::Float64; }
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::Float32;  // of the value, or of a list's items
+  bool list = false;
+  PlyType countType = PlyType::UInt8;
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Reads values one by one from the data after the header.
+class PlyData {
+ public:
+  PlyData(const char* p, const char* end, bool ascii, bool swap) : p_(p), end_(end), ascii_(ascii), swap_(swap) {}
+
+  std::uint64_t remaining() const { return static_cast<std::uint64_t>(end_ - p_); }
+  // Nothing but (for ASCII) white space is left.
+  bool atEnd() {
+    if (ascii_)
+      while (p_ < end_ && (isSpace(*p_) || *p_ == '\n')) ++p_;
+    return p_ == end_;
+  }
+
+  // One value of type t; false at the end of the data or on a token that is not such a number.
+  bool value(PlyType t, double& v) {
+    if (ascii_) {
+      while (p_ < end_ && (isSpace(*p_) || *p_ == '\n')) ++p_;
+      const char* b = p_;
+      while (p_ < end_ && !isSpace(*p_) && *p_ != '\n') ++p_;
+      if (b == p_) return false;
+      if (plyIsInteger(t)) {
+        long long i = 0;
+        const auto r = std::from_chars(b, p_, i);
+        if (r.ec != std::errc() || r.ptr != p_) return false;
+        v = static_cast<double>(i);
+        return true;
+      }
+      if (*b == '+') ++b;
+      const auto r = std::from_chars(b, p_, v);
+      return r.ec == std::errc() && r.ptr == p_;
+    }
+    const std::size_t n = plySize(t);
+    if (remaining() < n) return false;
+    unsigned char b[8];
+    std::memcpy(b, p_, n);
+    p_ += n;
+    if (swap_) std::reverse(b, b + n);
+    switch (t) {
+      case PlyType::Int8: v = static_cast<std::int8_t>(b[0]); break;
+      case PlyType::UInt8: v = b[0]; break;
+      case PlyType::Int16: { std::int16_t x; std::memcpy(&x, b, 2); v = x; break; }
+      case PlyType::UInt16: { std::uint16_t x; std::memcpy(&x, b, 2); v = x; break; }
+      case PlyType::Int32: { std::int32_t x; std::memcpy(&x, b, 4); v = x; break; }
+      case PlyType::UInt32: { std::uint32_t x; std::memcpy(&x, b, 4); v = x; break; }
+      case PlyType::Float32: { float x; std::memcpy(&x, b, 4); v = x; break; }
+      case PlyType::Float64: std::memcpy(&v, b, 8); break;
+    }
+    return true;
+  }
+
+ private:
+  static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+  const char* p_;
+  const char* end_;
+  bool ascii_, swap_;
+};
+
+bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
+  std::string text;
+  if (!readWholeFile(path, text, error)) return false;
+  if (text.compare(0, 3, "ply") != 0 || (text.size() > 3 && text[3] != '\n' && text[3] != '\r')) {
+    error = fail(path, "not a PLY file (it does not start with a 'ply' line)");
+    return false;
+  }
+  // Header: the lines up to "end_header".
+  std::vector<PlyElement> elements;
+  std::string format;
+  std::size_t pos = 0, headerEnd = std::string::npos, lineNo = 0;
+  auto headerError = [&](const std::string& what) {
+    error = fail(path, "PLY header line " + std::to_string(lineNo) + ": " + what);
+    return false;
   };
-  std::vector<Element> elements;
-  bool ascii = false;
-  std::istringstream lines(head.substr(0, headerEnd));
-  std::string line;
-  while (std::getline(lines, line)) {
+  while (pos < text.size()) {
+    std::size_t nl = text.find('\n', pos);
+    if (nl == std::string::npos) nl = text.size();
+    std::string line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
     std::string key;
     words >> key;
+    if (lineNo == 1) continue;  // "ply"
+    if (key == "end_header") {
+      headerEnd = std::min(pos, text.size());
+      break;
+    }
+    if (key.empty() || key == "comment" || key == "obj_info") continue;
     if (key == "format") {
-      std::string fmt;
-      words >> fmt;
-      ascii = fmt == "ascii";
+      std::string version;
+      words >> format >> version;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        return headerError("unknown format '" + format + "' (ascii, binary_little_endian or binary_big_endian)");
     } else if (key == "element") {
-      Element e;
-      std::string count;
-      words >> e.name >> count;
+      PlyElement e;
+      std::string count, extra;
+      words >> e.name >> count >> extra;
       const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
-      if (r.ec != std::errc() || r.ptr != count.data() + count.size()) {
-        error = fail(path, "PLY header: bad element count '" + count + "' for element '" + e.name + "'");
-        return false;
-      }
+      if (e.name.empty() || r.ec != std::errc() || r.ptr != count.data() + count.size() || !extra.empty())
+        return headerError("expected 'element NAME COUNT', got '" + line + "'");
+      for (const PlyElement& o : elements)
+        if (o.name == e.name) return headerError("element '" + e.name + "' declared twice");
       elements.push_back(e);
-    } else if (key == "property" && !elements.empty()) {
-      std::string type;
+    } else if (key == "property") {
+      if (elements.empty()) return headerError("property before any element");
+      PlyProperty prop;
+      std::string type, extra;
       words >> type;
-      if (type == "list") words >> type;  // the count type: a row holds at least the count
-      elements.back().bytes += plyTypeSize(type);
-      elements.back().values += 1;
+      if (type == "list") {
+        std::string countType;
+        words >> countType >> type;
+        prop.list = true;
+        if (!plyType(countType, prop.countType) || !plyIsInteger(prop.countType))
+          return headerError("list count type '" + countType + "' is not an integer type");
+      }
+      if (!plyType(type, prop.type)) return headerError("unknown property type '" + type + "'");
+      words >> prop.name >> extra;
+      if (prop.name.empty() || !extra.empty()) return headerError("expected 'property TYPE NAME', got '" + line + "'");
+      elements.back().properties.push_back(prop);
+    } else {
+      return headerError("unknown keyword '" + key + "'");
     }
   }
-  std::uint64_t vertices = 0, faces = 0, needed = 0;
-  for (const Element& e : elements) {
-    if (e.name == "vertex") vertices = e.count;
-    if (e.name == "face") faces = e.count;
+  if (headerEnd == std::string::npos) {
+    error = fail(path, "PLY header has no 'end_header' line");
+    return false;
+  }
+  if (format.empty()) {
+    error = fail(path, "PLY header has no 'format' line");
+    return false;
+  }
+  const bool ascii = format == "ascii";
+  const std::uint64_t body = text.size() - headerEnd;
+
+  // Sizes before anything is allocated: the limits, then what the data can hold.
+  const PlyElement* vertexElement = nullptr;
+  const PlyElement* faceElement = nullptr;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") vertexElement = &e;
+    if (e.name == "face") faceElement = &e;
     if (e.count > limits.max_vertices + limits.max_faces) {
       error = fail(path, "PLY header declares " + std::to_string(e.count) + " '" + e.name +
                              "' elements, over the limits (MeshLimits)");
       return false;
     }
   }
-  const std::string tooBig = checkMeshSize(vertices, faces, limits, "the PLY header: the mesh");
+  const std::uint64_t nv = vertexElement ? vertexElement->count : 0;
+  const std::uint64_t nf = faceElement ? faceElement->count : 0;
+  const std::string tooBig = checkMeshSize(nv, nf, limits, "the PLY header: the mesh");
   if (!tooBig.empty()) {
     error = fail(path, tooBig);
     return false;
   }
-  // Counts are within the limits here, so these products cannot overflow.
-  for (const Element& e : elements) needed += e.count * (ascii ? 2 * e.values : e.bytes);
+  std::uint64_t needed = 0;  // counts are within the limits here: no overflow
+  for (const PlyElement& e : elements)
+    for (const PlyProperty& prop : e.properties)
+      needed += e.count * (ascii ? 2 : plySize(prop.list ? prop.countType : prop.type));
   if (ascii && needed > 0) needed -= 1;  // the last value needs no separator
   if (needed > body) {
-    error = fail(path, "PLY header declares " + std::to_string(vertices) + " vertices and " +
-                           std::to_string(faces) + " faces (at least " + std::to_string(needed) +
-                           " bytes of data), but only " + std::to_string(body) + " bytes follow it");
+    error = fail(path, "PLY header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                           " faces (at least " + std::to_string(needed) + " bytes of data), but only " +
+                           std::to_string(body) + " bytes follow it");
     return false;
   }
-  return true;
+  if (!vertexElement) {
+    error = fail(path, "no vertices (the PLY header has no 'vertex' element)");
+    return false;
+  }
+  int xyz[3] = {-1, -1, -1};
+  for (std::size_t k = 0; k < vertexElement->properties.size(); ++k) {
+    const PlyProperty& prop = vertexElement->properties[k];
+    for (int c = 0; c < 3; ++c)
+      if (prop.name == std::string(1, static_cast<char>('x' + c)) && !prop.list && xyz[c] < 0) xyz[c] = static_cast<int>(k);
+  }
+  for (int c = 0; c < 3; ++c)
+    if (xyz[c] < 0) {
+      error = fail(path, std::string("PLY vertex element has no scalar '") + static_cast<char>('x' + c) + "' property");
+      return false;
+    }
+
+  // Data.
+  const bool hostLittle = hostIsLittleEndian();
+  const bool swap = !ascii && ((format == "binary_little_endian") != hostLittle);
+  PlyData data(text.data() + headerEnd, text.data() + text.size(), ascii, swap);
+  std::vector<double> coords;
+  coords.reserve(static_cast<std::size_t>(3 * nv));
+  std::vector<int> tris;
+  std::vector<int> poly;
+  for (const PlyElement& e : elements) {
+    const bool isVertex = &e == vertexElement, isFace = &e == faceElement;
+    for (std::uint64_t row = 0; row < e.count; ++row) {
+      auto dataError = [&](const std::string& what) {
+        error = fail(path, "PLY element '" + e.name + "' row " + std::to_string(row) + ": " + what);
+        return false;
+      };
+      double xyzRow[3] = {0, 0, 0};
+      bool facePolygon = false;
+      for (std::size_t k = 0; k < e.properties.size(); ++k) {
+        const PlyProperty& prop = e.properties[k];
+        double v = 0;
+        if (!prop.list) {
+          if (!data.value(prop.type, v))
+            return dataError(data.atEnd() ? "the data ends early" : "bad value for '" + prop.name + "'");
+          if (isVertex)
+            for (int c = 0; c < 3; ++c)
+              if (static_cast<int>(k) == xyz[c]) xyzRow[c] = v;
+          continue;
+        }
+        double count = 0;
+        if (!data.value(prop.countType, count))
+          return dataError(data.atEnd() ? "the data ends early" : "bad list length for '" + prop.name + "'");
+        if (count < 0) return dataError("negative list length " + std::to_string(static_cast<long long>(count)));
+        const std::uint64_t n = static_cast<std::uint64_t>(count);
+        const std::uint64_t itemBytes = ascii ? 1 : plySize(prop.type);
+        if (n * itemBytes > data.remaining())
+          return dataError("a list of " + std::to_string(n) + " items runs past the end of the file");
+        const bool indices = isFace && !facePolygon && (prop.name == "vertex_indices" || prop.name == "vertex_index");
+        if (indices && !plyIsInteger(prop.type))
+          return dataError("'" + prop.name + "' holds non-integer values");
+        if (indices) poly.resize(static_cast<std::size_t>(n));
+        for (std::uint64_t i = 0; i < n; ++i) {
+          if (!data.value(prop.type, v))
+            return dataError(data.atEnd() ? "the data ends early" : "bad list item in '" + prop.name + "'");
+          if (!indices) continue;
+          if (v < 0 || v >= static_cast<double>(nv))
+            return dataError("polygon " + std::to_string(row) + " refers to vertex " +
+                             std::to_string(static_cast<long long>(v)) + " but the file has " + std::to_string(nv) +
+                             " vertices");
+          poly[static_cast<std::size_t>(i)] = static_cast<int>(v);
+        }
+        if (indices) facePolygon = true;
+      }
+      if (isVertex) {
+        if (!std::isfinite(xyzRow[0]) || !std::isfinite(xyzRow[1]) || !std::isfinite(xyzRow[2]))
+          return dataError("non-finite vertex coordinate (NaN or Inf)");
+        coords.insert(coords.end(), xyzRow, xyzRow + 3);
+      }
+      if (facePolygon) {
+        if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
+          return dataError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
+        addPolygon(poly.data(), poly.size(), tris, info);
+      }
+    }
+  }
+  return finish(path, coords, tris, mesh, error, limits);
 }
 
 // Whether VTK's vtkSTLReader will read `head` (the file's first up to 256 bytes) as binary STL:
@@ -539,17 +729,6 @@ bool checkStlSize(const std::string& path, const MeshLimits& limits, std::string
     return false;
   }
   return true;
-}
-
-bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
-             const MeshLimits& limits) {
-  if (!checkPlyHeader(path, limits, error)) return false;
-  pcl::PolygonMesh pm;
-  if (pcl::io::loadPLYFile(path, pm) < 0) {
-    error = fail(path, "PCL could not parse it as PLY");
-    return false;
-  }
-  return polygonMeshToTriMesh(path, pm, mesh, error, info, limits);
 }
 
 bool readStl(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
