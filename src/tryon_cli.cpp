@@ -34,6 +34,7 @@ std::string usage() {
     o << v;
     return o.str();
   };
+  const vt::MeshLimits limits;
   return "usage:\n"
          "  tryon resolve --body B --garment G --out OUT [--clearance M] [--max-iterations N]\n"
          "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON.\n"
@@ -43,6 +44,7 @@ std::string usage() {
          "      Exit 0 when all are zero, 3 otherwise.\n"
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
          "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
+         "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
          "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
          "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
@@ -52,14 +54,23 @@ std::string usage() {
          "                     a dt above the bound is refused)\n"
          "      --max-iterations  sewing + draping iterations (default " + g(d.max_iterations) + ")\n"
          "      --tol          collision tolerance, m (default " + g(d.collision.tol) + ")\n"
-         "      --map-size     depth map pixels along the longer side (default 0: one pixel = tol)\n"
+         "      --map-size     depth map pixels along the longer side (default 0: one pixel = tol;\n"
+         "                     else 16 .. 4096)\n"
+         "      --density      cloth density, kg/m^2 (default " + g(d.cloth.density) + ")\n"
+         "      --k-structural, --k-shear, --k-flexion  spring stiffnesses, N/m (default " +
+         g(d.cloth.k_structural) + ", " + g(d.cloth.k_shear) + ", " + g(d.cloth.k_flexion) + ")\n"
          "      Prints the report as JSON and writes the garment (one welded mesh) to OUT.\n"
          "      Exit 0 converged, 3 not converged, 2 bad input or a failed drape (message on\n"
          "      stderr; no OUT written).\n"
          "  tryon demo --out DIR\n"
          "      Resolves the built-in procedural scene; writes body.obj, garment_in.obj,\n"
          "      garment_out.obj and report.json into DIR.\n"
-         "Meshes: OBJ, PLY or STL, metres, body faces wound counter-clockwise seen from outside.\n";
+         "Meshes: OBJ, PLY or STL, metres, body faces wound counter-clockwise seen from outside.\n"
+         "Every command that reads meshes takes [--max-vertices N] [--max-faces N]: larger meshes\n"
+         "are refused before they are read (default " + std::to_string(limits.max_vertices) + " and " +
+         std::to_string(limits.max_faces) + "; the cloth of a drape is held to --max-vertices too).\n"
+         "Warnings about the input (degenerate or duplicate faces, an open or non-manifold body,\n"
+         "a size that suggests millimetres, meshes far apart) go to stderr as 'warning: ...'.\n";
 }
 
 struct Usage : std::runtime_error {
@@ -118,13 +129,27 @@ int integer(const std::map<std::string, std::string>& opt, const std::string& ke
   return static_cast<int>(v);
 }
 
-vt::TriMesh load(const std::string& path, const std::string& what) {
+void warn(const std::string& w) { std::cerr << "warning: " << w << "\n"; }
+
+vt::MeshLimits meshLimits(const std::map<std::string, std::string>& opt) {
+  vt::MeshLimits l;
+  l.max_vertices = static_cast<std::size_t>(integer(opt, "max-vertices", 2000000, 1, 1000000000));
+  l.max_faces = static_cast<std::size_t>(integer(opt, "max-faces", 4000000, 1, 1000000000));
+  return l;
+}
+
+// Reads and checks a mesh ("body": validateBody; else validate); warnings go to stderr.
+vt::TriMesh load(const std::string& path, const std::string& what, const vt::MeshLimits& limits) {
   vt::TriMesh m;
   std::string err;
-  if (!vt::readMesh(path, m, err)) throw std::invalid_argument(what + ": " + err);
-  const vt::MeshValidation val = vt::validate(m, what);
+  vt::MeshReadInfo info;
+  if (!vt::readMesh(path, m, err, &info, limits)) throw std::invalid_argument(what + ": " + err);
+  if (info.polygons_dropped > 0)
+    warn(what + ": " + std::to_string(info.polygons_dropped) + " of " + std::to_string(info.polygons_read) +
+         " polygons have fewer than 3 vertices and were dropped");
+  const vt::MeshValidation val = what == "body" ? vt::validateBody(m, limits) : vt::validate(m, what, limits);
   if (!val.ok) throw std::invalid_argument(val.message);
-  if (!val.message.empty()) std::cerr << "warning: " << val.message << "\n";
+  for (const std::string& w : val.warnings) warn(w);
   return m;
 }
 
@@ -143,10 +168,13 @@ vt::ResolverParams resolverParams(const std::map<std::string, std::string>& opt)
 }
 
 int resolve(const std::map<std::string, std::string>& opt) {
-  const vt::TriMesh bodyMesh = load(required(opt, "body"), "body");
-  vt::TriMesh garment = load(required(opt, "garment"), "garment");
+  const std::string bodyPath = required(opt, "body"), garmentPath = required(opt, "garment");
   const std::string out = required(opt, "out");
   const vt::ResolverParams params = resolverParams(opt);
+  const vt::MeshLimits limits = meshLimits(opt);
+  const vt::TriMesh bodyMesh = load(bodyPath, "body", limits);
+  vt::TriMesh garment = load(garmentPath, "garment", limits);
+  for (const std::string& w : vt::placementWarnings(bodyMesh, garment)) warn(w);
   vt::Body body(bodyMesh);
   const vt::ResolverReport rep = vt::resolvePenetrations(body, garment, params);
   save(out, garment);
@@ -155,8 +183,9 @@ int resolve(const std::map<std::string, std::string>& opt) {
 }
 
 int check(const std::map<std::string, std::string>& opt) {
-  const vt::TriMesh body = load(required(opt, "body"), "body");
-  const vt::TriMesh garment = load(required(opt, "garment"), "garment");
+  const vt::MeshLimits limits = meshLimits(opt);
+  const vt::TriMesh body = load(required(opt, "body"), "body", limits);
+  const vt::TriMesh garment = load(required(opt, "garment"), "garment", limits);
   const vt::ReferenceCounts c = vt::referenceCounts(body, garment, vt::edgeTopology(body).closed());
   std::cout << vt::toJson(c) << std::endl;
   return (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) == 0 ? 0 : 3;
@@ -182,13 +211,18 @@ int drape(const std::map<std::string, std::string>& opt) {
   p.resolve = !opt.count("no-resolve");
   p.collision.tol = number(opt, "tol", p.collision.tol);
   p.collision.map_size = integer(opt, "map-size", p.collision.map_size, 0, 1000000000);
+  p.cloth.density = number(opt, "density", p.cloth.density);
+  p.cloth.k_structural = number(opt, "k-structural", p.cloth.k_structural);
+  p.cloth.k_shear = number(opt, "k-shear", p.cloth.k_shear);
+  p.cloth.k_flexion = number(opt, "k-flexion", p.cloth.k_flexion);
+  p.limits = meshLimits(opt);
   const std::string bad = vt::validateDrapeParams(p);
   if (!bad.empty()) throw std::invalid_argument(bad);
 
   vt::Pattern pattern;
   std::string err;
   if (!vt::readPatternYaml(patternPath, pattern, err)) throw std::invalid_argument(err);
-  const vt::Body body(load(bodyPath, "body"));
+  const vt::Body body(load(bodyPath, "body", p.limits));
   vt::TriMesh garment;
   auto last = std::chrono::steady_clock::now();
   const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
@@ -237,16 +271,17 @@ int main(int argc, char** argv) {
     const std::string cmd = argv[1];
     const auto opt = parseOptions(argc, argv, 2);
     if (cmd == "resolve") {
-      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations"});
+      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations", "max-vertices", "max-faces"});
       return resolve(opt);
     }
     if (cmd == "check") {
-      allowOnly(opt, cmd, {"body", "garment"});
+      allowOnly(opt, cmd, {"body", "garment", "max-vertices", "max-faces"});
       return check(opt);
     }
     if (cmd == "drape") {
       allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
-                           "no-resolve", "tol", "map-size"});
+                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
+                           "k-flexion", "max-vertices", "max-faces"});
       return drape(opt);
     }
     if (cmd == "demo") {

@@ -106,6 +106,9 @@ std::string validateDrapeParams(const DrapeParams& p) {
   if (!(p.settle_speed > 0)) return bad("settle_speed", p.settle_speed, "> 0 m/s");
   if (!(p.weld_tolerance >= 0)) return bad("weld_tolerance", p.weld_tolerance, ">= 0 m");
   if (!(p.time_budget >= 0)) return bad("time_budget", p.time_budget, ">= 0 s");
+  if (!(p.push_out >= 0 && p.push_out <= 1)) return bad("push_out", p.push_out, "0 .. 1");
+  if (p.min_drape_iterations < 0) return bad("min_drape_iterations", p.min_drape_iterations, ">= 0");
+  if (p.limits.max_vertices < 1 || p.limits.max_faces < 1) return "limits: max_vertices and max_faces must be >= 1";
   return "";
 }
 
@@ -122,9 +125,14 @@ DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& par
   normalizePattern(pattern);
   ClothMesh mesh;
   std::string error;
-  if (!meshPattern(pattern, params.spacing, mesh, error)) {
+  if (!meshPattern(pattern, params.spacing, mesh, error, params.limits)) {
     rep.message = error;
     return rep;
+  }
+  if (mesh.X.rows() > 0) {  // panels placed where they cannot reach the body
+    const Eigen::Vector3d lo = mesh.X.colwise().minCoeff().transpose(), hi = mesh.X.colwise().maxCoeff().transpose();
+    for (const std::string& w : placementWarnings(body.boxMin(), body.boxMax(), lo, hi))
+      rep.warnings.push_back(w);
   }
   ClothState cloth(mesh, params.cloth);
   rep.seams_total = cloth.openSeams();

@@ -93,6 +93,23 @@ double stretchLength(const Pattern& pattern, const OutlineStretch& s) {
 std::string validatePattern(const Pattern& pattern, double maxLengthRatio) {
   if (pattern.panels.empty())
     return "pattern" + (pattern.name.empty() ? std::string() : " '" + pattern.name + "'") + " has no panels";
+  if (pattern.panels.size() > kMaxPatternPanels)
+    return "pattern has " + std::to_string(pattern.panels.size()) + " panels, more than the limit of " +
+           std::to_string(kMaxPatternPanels);
+  if (pattern.seams.size() > kMaxPatternSeams)
+    return "pattern has " + std::to_string(pattern.seams.size()) + " seams, more than the limit of " +
+           std::to_string(kMaxPatternSeams);
+  std::size_t points = 0;
+  for (std::size_t p = 0; p < pattern.panels.size(); ++p) {
+    const std::size_t n = static_cast<std::size_t>(pattern.panels[p].outline.rows());
+    if (n > kMaxOutlinePoints)
+      return panelLabel(pattern, static_cast<int>(p)) + ": outline has " + std::to_string(n) +
+             " points, more than the limit of " + std::to_string(kMaxOutlinePoints);
+    points += n;
+  }
+  if (points > kMaxPatternOutlinePoints)
+    return "pattern has " + std::to_string(points) + " outline points in all, more than the limit of " +
+           std::to_string(kMaxPatternOutlinePoints);
   const int np = static_cast<int>(pattern.panels.size());
   for (int p = 0; p < np; ++p) {
     const std::string problem = panelProblem(pattern.panels[static_cast<std::size_t>(p)]);

@@ -54,6 +54,14 @@ struct PanelGrid {
 };
 
 // Grid nodes, links, quads of one panel (indices local to the grid).
+// Grid size of a panel at spacing h (nodes along u and v, before clipping); may be huge or inf.
+void gridSize(const MatrixX2d& P, double h, double& cx, double& cy) {
+  const Eigen::Vector2d lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
+  const Eigen::Vector2d size = hi - lo;
+  cx = std::floor(size.x() / h + 1e-9) + 1;
+  cy = std::floor(size.y() / h + 1e-9) + 1;
+}
+
 bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads,
                std::string& error) {
   const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(p)].outline;
@@ -61,7 +69,8 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
   g.h = h;
   const Eigen::Vector2d lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
   const Eigen::Vector2d size = hi - lo;
-  const double cx = std::floor(size.x() / h + 1e-9) + 1, cy = std::floor(size.y() / h + 1e-9) + 1;
+  double cx = 0, cy = 0;
+  gridSize(P, h, cx, cy);
   if (!(cx * cy <= kMaxGridNodes)) {
     error = panelLabel(pattern, p) + ": spacing " + num(h) + " m gives a " + num(cx) + " x " + num(cy) +
             " grid, more than " + std::to_string(static_cast<long long>(kMaxGridNodes)) + " nodes";
@@ -116,7 +125,8 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
 
 }  // namespace
 
-bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error) {
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
+                 const MeshLimits& limits) {
   cloth = ClothMesh();
   error.clear();
   if (!(std::isfinite(spacing) && spacing > 0)) {
@@ -127,6 +137,26 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
   if (!error.empty()) return false;
 
   const int np = static_cast<int>(pattern.panels.size());
+  // Sizes before any grid is allocated: all grids together at most 4 x max_vertices nodes.
+  {
+    double gridNodes = 0;
+    for (int p = 0; p < np; ++p) {
+      double cx = 0, cy = 0;
+      gridSize(pattern.panels[static_cast<std::size_t>(p)].outline, spacing, cx, cy);
+      if (!(cx * cy <= kMaxGridNodes)) {
+        error = panelLabel(pattern, p) + ": spacing " + num(spacing) + " m gives a " + num(cx) + " x " + num(cy) +
+                " grid, more than " + std::to_string(static_cast<long long>(kMaxGridNodes)) + " nodes";
+        return false;
+      }
+      gridNodes += cx * cy;
+    }
+    const double budget = 4.0 * static_cast<double>(limits.max_vertices);
+    if (!(gridNodes <= budget)) {
+      error = "spacing " + num(spacing) + " m gives grids of " + num(gridNodes) + " nodes over all panels, more than " +
+              num(budget) + " (4 x MeshLimits::max_vertices); use a coarser spacing or check the outline units";
+      return false;
+    }
+  }
   std::vector<PanelGrid> grids(static_cast<std::size_t>(np));
   std::vector<std::vector<std::array<int, 4>>> localQuads(static_cast<std::size_t>(np));
   int total = 0;
@@ -135,6 +165,12 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
     if (!buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)], error)) return false;
     for (std::size_t k = 0; k < g.used.size(); ++k)
       if (g.used[k]) g.node[k] = total++;
+  }
+  if (static_cast<std::size_t>(total) > limits.max_vertices) {
+    error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
+            " nodes, over the limit of " + std::to_string(limits.max_vertices) +
+            " vertices (MeshLimits::max_vertices); use a coarser spacing";
+    return false;
   }
 
   cloth.spacing = spacing;

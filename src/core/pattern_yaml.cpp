@@ -149,6 +149,9 @@ class Reader {
     const std::string op = path + ".outline";
     if (!outline.IsSequence())
       return fail(op, outline, "expected a list of [u, v] points (metres, counter-clockwise), got " + describe(outline));
+    if (outline.size() > kMaxOutlinePoints)
+      return fail(op, outline, "the outline has " + std::to_string(outline.size()) + " points, more than the limit of " +
+                                   std::to_string(kMaxOutlinePoints));
     panel.outline.resize(static_cast<Eigen::Index>(outline.size()), 2);
     for (std::size_t i = 0; i < outline.size(); ++i) {
       double uv[2];
@@ -215,6 +218,9 @@ class Reader {
     const YAML::Node panels = root["panels"];
     if (!panels.IsSequence()) return fail("panels", panels, "expected a list of panels, got " + describe(panels));
     if (panels.size() == 0) return fail("panels", panels, "the list is empty; a pattern needs at least one panel");
+    if (panels.size() > kMaxPatternPanels)
+      return fail("panels", panels, "the pattern has " + std::to_string(panels.size()) + " panels, more than the limit of " +
+                                        std::to_string(kMaxPatternPanels));
     for (std::size_t i = 0; i < panels.size(); ++i) {
       const std::string pp = "panels[" + std::to_string(i) + "]";
       PatternPanel p;
@@ -228,6 +234,9 @@ class Reader {
     if (root["seams"] && !root["seams"].IsNull()) {
       const YAML::Node seams = root["seams"];
       if (!seams.IsSequence()) return fail("seams", seams, "expected a list of seams, got " + describe(seams));
+      if (seams.size() > kMaxPatternSeams)
+        return fail("seams", seams, "the pattern has " + std::to_string(seams.size()) + " seams, more than the limit of " +
+                                        std::to_string(kMaxPatternSeams));
       for (std::size_t k = 0; k < seams.size(); ++k) {
         const std::string sp = "seams[" + std::to_string(k) + "]";
         PatternSeam s;

@@ -70,7 +70,8 @@ bool scanNormals(const sensor_msgs::PointCloud2& cloud, MatrixX3d& N, std::strin
 
 }  // namespace
 
-bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::string& error) {
+bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
+                            std::vector<std::string>& warnings, std::string& error) {
   const BodyCheck check = orientBody(mesh);
   report.vertices = static_cast<std::uint32_t>(mesh.numVertices());
   report.faces = static_cast<std::uint32_t>(mesh.numFaces());
@@ -86,6 +87,15 @@ bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, st
     error = "body: " + check.message;
     return false;
   }
+  // What a body needs beyond a usable mesh (open, non-manifold, pieces, units), after flipping.
+  const MeshValidation v = validateBody(mesh);
+  if (!v.ok) {
+    error = v.message;
+    return false;
+  }
+  warnings = v.warnings;
+  if (check.flipped)
+    warnings.insert(warnings.begin(), "body arrived inside out (inward normals) and was flipped");
   return true;
 }
 
@@ -115,8 +125,8 @@ void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) 
     }
     const MeshValidation v = validate(mesh, "body");
     if (!v.ok) error = v.message;
-    else if (inspectBody(mesh, report, error)) {
-      installBody(std::move(mesh), frame, std::move(report));
+    else if (std::vector<std::string> warnings; inspectBody(mesh, report, warnings, error)) {
+      installBody(std::move(mesh), frame, std::move(report), std::move(warnings));
       return;
     }
   }
@@ -156,7 +166,8 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
       report.scan_points_used = static_cast<std::uint32_t>(scan.points_after_downsampling);
       report.normals_estimated = scan.normals_estimated;
       report.seconds_meshing = scan.seconds_total;
-      if (inspectBody(mesh, report, error)) {
+      std::vector<std::string> warnings;
+      if (inspectBody(mesh, report, warnings, error)) {
         ROS_INFO("tryon_node: scan meshed: %zu points (%zu used), %s, %.2f s",
                  static_cast<std::size_t>(scan.input_points), static_cast<std::size_t>(scan.points_after_downsampling),
                  scan.normals_estimated ? "normals estimated" : "normals from the scan",
@@ -165,7 +176,7 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
           std::lock_guard<std::mutex> lock(mutex_);
           last_scan_hash_ = hash;
         }
-        installBody(std::move(mesh), frame, std::move(report));
+        installBody(std::move(mesh), frame, std::move(report), std::move(warnings));
         return;
       }
     }
@@ -175,8 +186,9 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
 }
 
 void TryonNode::installBody(TriMesh mesh, const std::string& frame,
-                            virtual_tryon::BodyReport report) {
+                            virtual_tryon::BodyReport report, std::vector<std::string> warnings) {
   BodyState state;
+  state.warnings = std::move(warnings);
   state.body = std::make_shared<const Body>(std::move(mesh));  // BVH and maps: lazily, when needed
   state.frame = frame;
   state.report = std::move(report);
@@ -184,8 +196,7 @@ void TryonNode::installBody(TriMesh mesh, const std::string& frame,
     std::lock_guard<std::mutex> lock(mutex_);
     topic_body_ = state;
   }
-  if (state.report.flipped)
-    ROS_WARN_STREAM("tryon_node: the body arrived inverted (inward normals) and was flipped");
+  for (const std::string& w : state.warnings) ROS_WARN_STREAM("tryon_node: " << w);
   ROS_INFO_STREAM("tryon_node: body from " << state.report.source << " in frame '" << frame
                                            << "': " << state.report.summary);
   publishBody(state);

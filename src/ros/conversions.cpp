@@ -3,6 +3,7 @@
 #include <sensor_msgs/PointField.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -35,50 +36,76 @@ bool faceIsValid(const TriMesh& mesh, Eigen::Index f) {
 
 }  // namespace
 
-bool pointCloudToVertices(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, std::string& error) {
+bool pointCloudToPoints(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, MatrixX3d* normals,
+                        std::string& error, const MeshLimits& limits) {
   if (cloud.is_bigendian) {
     error = "point cloud is big-endian (is_bigendian = true); only little-endian data is supported";
     return false;
   }
   const std::uint64_t width = cloud.width, height = cloud.height, step = cloud.point_step;
-  const std::uint64_t n = width * height;
+  const std::uint64_t n = width * height;  // < 2^64: both are 32-bit
   if (n == 0) {
     V.resize(0, 3);
+    if (normals) normals->resize(0, 3);
     return true;
+  }
+  if (n > limits.max_vertices) {
+    error = "point cloud has " + std::to_string(width) + " x " + std::to_string(height) + " = " +
+            std::to_string(n) + " points, over the limit of " + std::to_string(limits.max_vertices) +
+            " vertices (MeshLimits::max_vertices)";
+    return false;
   }
   if (n > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
     error = "point cloud has " + std::to_string(n) + " points, more than a mesh can index";
     return false;
   }
 
-  const char* names[3] = {"x", "y", "z"};
-  std::uint32_t offset[3];
-  bool isDouble[3];
-  for (int k = 0; k < 3; ++k) {
+  // The fields to read: x, y, z, then normal_x, normal_y, normal_z when wanted and present.
+  const char* names[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+  const sensor_msgs::PointField* found[6] = {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+  for (int k = 0; k < 6; ++k) {
     const auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
                                  [&](const sensor_msgs::PointField& f) { return f.name == names[k]; });
-    if (it == cloud.fields.end()) {
+    if (it != cloud.fields.end()) found[k] = &*it;
+  }
+  for (int k = 0; k < 3; ++k)
+    if (!found[k]) {
       error = std::string("point cloud has no '") + names[k] + "' field";
       return false;
     }
-    if (it->datatype != sensor_msgs::PointField::FLOAT32 &&
-        it->datatype != sensor_msgs::PointField::FLOAT64) {
+  int fieldCount = 3;
+  if (normals && (found[3] || found[4] || found[5])) {
+    for (int k = 3; k < 6; ++k)
+      if (!found[k]) {
+        error = std::string("point cloud has some normal fields but no '") + names[k] +
+                "' (normal_x, normal_y and normal_z go together)";
+        return false;
+      }
+    fieldCount = 6;
+  }
+  std::uint32_t offset[6];
+  bool isDouble[6];
+  for (int k = 0; k < fieldCount; ++k) {
+    const sensor_msgs::PointField& f = *found[k];
+    if (f.datatype != sensor_msgs::PointField::FLOAT32 &&
+        f.datatype != sensor_msgs::PointField::FLOAT64) {
       error = std::string("point cloud field '") + names[k] + "' has datatype " +
-              datatypeName(it->datatype) + " (" + std::to_string(it->datatype) +
+              datatypeName(f.datatype) + " (" + std::to_string(f.datatype) +
               "); only FLOAT32 and FLOAT64 are supported";
       return false;
     }
-    isDouble[k] = it->datatype == sensor_msgs::PointField::FLOAT64;
+    isDouble[k] = f.datatype == sensor_msgs::PointField::FLOAT64;
     const std::uint64_t size = isDouble[k] ? 8 : 4;
-    if (static_cast<std::uint64_t>(it->offset) + size > step) {
+    if (static_cast<std::uint64_t>(f.offset) + size > step) {
       error = "point_step " + std::to_string(step) + " is too small for field '" + names[k] +
-              "' (offset " + std::to_string(it->offset) + ", " + std::to_string(size) + " bytes)";
+              "' (offset " + std::to_string(f.offset) + ", " + std::to_string(size) + " bytes)";
       return false;
     }
-    offset[k] = it->offset;
+    offset[k] = f.offset;
   }
 
   // Rows are row_step apart when height > 1; a single row only needs width * point_step bytes.
+  // n <= 2^31 and step, row_step < 2^32, so none of these products overflows 64 bits.
   const std::uint64_t rowBytes = width * step;
   const std::uint64_t rowStep = height > 1 ? cloud.row_step : rowBytes;
   if (rowStep < rowBytes) {
@@ -95,34 +122,43 @@ bool pointCloudToVertices(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, s
   }
 
   MatrixX3d out(static_cast<Eigen::Index>(n), 3);
+  MatrixX3d outNormals(fieldCount == 6 ? static_cast<Eigen::Index>(n) : 0, 3);
   Eigen::Index i = 0;
   for (std::uint64_t r = 0; r < height; ++r) {
     const std::uint8_t* row = cloud.data.data() + r * rowStep;
     for (std::uint64_t c = 0; c < width; ++c, ++i) {
       const std::uint8_t* pt = row + c * step;
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < fieldCount; ++k) {
+        double v;
         if (isDouble[k]) {
-          double v;
           std::memcpy(&v, pt + offset[k], sizeof v);
-          out(i, k) = v;
         } else {
-          float v;
-          std::memcpy(&v, pt + offset[k], sizeof v);
-          out(i, k) = static_cast<double>(v);
+          float fv;
+          std::memcpy(&fv, pt + offset[k], sizeof fv);
+          v = static_cast<double>(fv);
         }
+        if (k < 3)
+          out(i, k) = v;
+        else
+          outNormals(i, k - 3) = v;
       }
     }
   }
   V = std::move(out);
+  if (normals) *normals = std::move(outNormals);
   return true;
 }
 
-bool fromMsg(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& error) {
-  TriMesh out;
-  if (!pointCloudToVertices(msg.cloud, out.V, error)) return false;
-  const std::uint64_t n = static_cast<std::uint64_t>(out.V.rows());
+bool pointCloudToVertices(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, std::string& error,
+                          const MeshLimits& limits) {
+  return pointCloudToPoints(cloud, V, nullptr, error, limits);
+}
 
-  std::size_t triangles = 0;
+bool fromMsg(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& error,
+             const MeshLimits& limits) {
+  // Sizes first: the points (pointCloudToPoints checks width * height before reading) and the
+  // triangles the polygons make, before either is allocated.
+  std::uint64_t triangles = 0;
   for (std::size_t p = 0; p < msg.polygons.size(); ++p) {
     const auto& verts = msg.polygons[p].vertices;
     if (verts.size() < 3) {
@@ -130,18 +166,32 @@ bool fromMsg(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh, std::string& error
               " vertices; at least 3 are needed";
       return false;
     }
-    for (const std::uint32_t v : verts)
-      if (v >= n) {
-        error = "polygon " + std::to_string(p) + " refers to vertex " + std::to_string(v) +
-                " but the cloud has " + std::to_string(n) + " points";
-        return false;
-      }
     triangles += verts.size() - 2;
   }
-  if (triangles > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+  if (triangles > limits.max_faces) {
+    error = std::to_string(msg.polygons.size()) + " polygons make " + std::to_string(triangles) +
+            " triangles, over the limit of " + std::to_string(limits.max_faces) +
+            " triangles (MeshLimits::max_faces)";
+    return false;
+  }
+  if (triangles > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) {
     error = "too many triangles";
     return false;
   }
+
+  TriMesh out;
+  if (!pointCloudToVertices(msg.cloud, out.V, error, limits)) return false;
+  const std::uint64_t n = static_cast<std::uint64_t>(out.V.rows());
+  for (std::size_t p = 0; p < msg.polygons.size(); ++p)
+    for (const std::uint32_t v : msg.polygons[p].vertices)
+      if (v >= n) {
+        error = "polygon " + std::to_string(p) + " refers to vertex " + std::to_string(v) +
+                (v >= 0x80000000u ? " (" + std::to_string(static_cast<std::int32_t>(v)) +
+                                        " as a signed index)"
+                                  : std::string()) +
+                " but the cloud has " + std::to_string(n) + " points";
+        return false;
+      }
 
   out.F.resize(static_cast<Eigen::Index>(triangles), 3);
   Eigen::Index f = 0;
@@ -163,24 +213,34 @@ void toMsg(const TriMesh& mesh, const std_msgs::Header& header, pcl_msgs::Polygo
   c.header = header;
   c.height = 1;
   c.width = static_cast<std::uint32_t>(mesh.V.rows());
+  bool wide = false;  // FLOAT64 when float32 would round a coordinate by more than a micrometre
+  for (Eigen::Index i = 0; i < mesh.V.rows() && !wide; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(mesh.V(i, k)) > kFloat32ExactRange && std::isfinite(mesh.V(i, k))) wide = true;
+  const std::uint32_t size = wide ? 8 : 4;
   c.fields.resize(3);
   const char* names[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
     c.fields[k].name = names[k];
-    c.fields[k].offset = static_cast<std::uint32_t>(4 * k);
-    c.fields[k].datatype = sensor_msgs::PointField::FLOAT32;
+    c.fields[k].offset = static_cast<std::uint32_t>(size * k);
+    c.fields[k].datatype = wide ? sensor_msgs::PointField::FLOAT64 : sensor_msgs::PointField::FLOAT32;
     c.fields[k].count = 1;
   }
   c.is_bigendian = false;
-  c.point_step = 12;
+  c.point_step = 3 * size;
   c.row_step = c.point_step * c.width;
   c.is_dense = true;
   c.data.resize(static_cast<std::size_t>(c.row_step));
   std::uint8_t* out = c.data.data();
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
-    for (int k = 0; k < 3; ++k, out += 4) {
-      const float v = static_cast<float>(mesh.V(i, k));
-      std::memcpy(out, &v, sizeof v);
+    for (int k = 0; k < 3; ++k, out += size) {
+      if (wide) {
+        const double v = mesh.V(i, k);
+        std::memcpy(out, &v, sizeof v);
+      } else {
+        const float v = static_cast<float>(mesh.V(i, k));
+        std::memcpy(out, &v, sizeof v);
+      }
     }
 
   msg.polygons.clear();

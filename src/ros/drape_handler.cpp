@@ -240,6 +240,11 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   res.report = rc::toMsg(report, params.mode);
   res.report.body = body.report;
   res.message = report.message;
+  for (const std::string& w : body.warnings) {
+    res.report.warnings.push_back(w);
+    res.message += "; warning: " + w;
+  }
+  for (const std::string& w : report.warnings) res.message += "; warning: " + w;
   virtual_tryon::FitReport fit;
   fit.kind = "drape";
   fit.body = body.report;

@@ -39,6 +39,7 @@ bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, TriM
     error = what + ": " + error;
     return false;
   }
+  // A body is checked further (and flipped if inside out) by inspectBody.
   const MeshValidation v = validate(mesh, what);
   if (!v.ok) {
     error = v.message;
@@ -68,6 +69,22 @@ int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
     v = def;
   }
   return v;
+}
+
+// The input warnings for a response message ("; warning: ..." each, "" when none): the body's
+// (found when it was installed: flipped, degenerate or duplicate faces, open or non-manifold,
+// several pieces, a size that suggests millimetres), the garment's validation warnings and, with a
+// garment, how the two are placed.
+std::string inputWarnings(const std::vector<std::string>& bodyWarnings, const TriMesh& body,
+                          const TriMesh* garment) {
+  std::vector<std::string> w = bodyWarnings;
+  if (garment) {
+    for (const std::string& g : validate(*garment, "garment").warnings) w.push_back(g);
+    for (const std::string& g : placementWarnings(body, *garment)) w.push_back(g);
+  }
+  std::string s;
+  for (const std::string& x : w) s += "; warning: " + x;
+  return s;
 }
 
 std::string seconds(double s) {
@@ -212,18 +229,19 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
     if (topic_body_.body && sameMesh(topic_body_.body->mesh(), mesh)) {
       out.body = topic_body_.body;
       out.report = topic_body_.report;
+      out.warnings = topic_body_.warnings;
       return true;
     }
     if (request_body_.body && sameMesh(request_body_.body->mesh(), mesh)) {
       out.body = request_body_.body;
       out.report = request_body_.report;
+      out.warnings = request_body_.warnings;
       return true;
     }
   }
   out.report.source = "mesh";
-  if (!inspectBody(mesh, out.report, error)) return false;
-  if (out.report.flipped)
-    ROS_WARN_STREAM("tryon_node: the request's body arrived inverted and was flipped");
+  if (!inspectBody(mesh, out.report, out.warnings, error)) return false;
+  for (const std::string& w : out.warnings) ROS_WARN_STREAM("tryon_node: request: " << w);
   out.body = std::make_shared<const Body>(std::move(mesh));
   std::lock_guard<std::mutex> lock(mutex_);
   request_body_ = out;
@@ -288,6 +306,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
       !transformInto(garmentFrame, body.frame, garmentHeader.stamp, garment, error))
     return false;
 
+  const std::string warnings = inputWarnings(body.warnings, body.body->mesh(), &garment);
   ResolverParams params = settings_.resolver;
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
@@ -302,7 +321,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   res.report = rc::toMsg(report);
   res.report.body = body.report;
   res.success = report.converged;
-  res.message = summary(report);
+  res.message = summary(report) + warnings;
   ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
            "%d iterations, %.3f s, %s",
            report.garment_edge_crossings_before, report.body_edge_crossings_before,

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -323,4 +324,156 @@ TEST_F(MeshIoTest, VertexOrderAndUnusedVerticesSurviveObjAndPly) {
     expectSameTopology(m, r);
     EXPECT_TRUE((m.V.array() == r.V.array()).all()) << name;
   }
+}
+
+// Found by fuzz_mesh_io: a binary STL whose header declares 538,969,088 triangles in a 325-byte
+// file. vtkSTLReader allocates for the declared count before reading (19 GB here) and the
+// process ran out of memory; readMesh now refuses such a file before VTK sees it.
+TEST_F(MeshIoTest, BinaryStlDeclaringMoreTrianglesThanItHoldsIsRefused) {
+  std::string bytes(80, '\0');
+  bytes.replace(0, 40, "Visualization Toolkit generated SLA File");
+  const std::uint32_t declared = 0x20200400u;
+  for (int k = 0; k < 4; ++k) bytes += static_cast<char>((declared >> (8 * k)) & 0xFF);
+  bytes += std::string(2 * 50, '\0');  // two (all-zero) triangles
+  const std::string p = writeText("bogus_count.stl", bytes);
+  vt::TriMesh r;
+  std::string error;
+  EXPECT_FALSE(vt::readMesh(p, r, error));
+  EXPECT_NE(error.find("declares 538969088 triangles but the file (184 bytes) holds 2"), std::string::npos) << error;
+  // A count below what the file holds is what VTK corrects silently: still read.
+  const vt::TriMesh tet = tetrahedron();
+  const std::string q = path("low_count.stl");
+  ASSERT_TRUE(vt::writeMesh(q, tet, error)) << error;
+  {
+    std::fstream f(q, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(80);
+    const char one[4] = {1, 0, 0, 0};
+    f.write(one, 4);
+  }
+  ASSERT_TRUE(vt::readMesh(q, r, error)) << error;
+  EXPECT_EQ(r.F.rows(), 4);
+}
+
+TEST_F(MeshIoTest, SizeLimitsAreCheckedBeforeReading) {
+  vt::MeshLimits small;
+  small.max_vertices = 3;
+  small.max_faces = 3;
+  vt::TriMesh r;
+  std::string error;
+  // OBJ: the fourth vertex is refused where it is read.
+  const std::string obj = writeText("four.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
+  EXPECT_FALSE(vt::readMesh(obj, r, error, nullptr, small));
+  EXPECT_NE(error.find("line 4: the mesh has 4 vertices, over the limit of 3 vertices"), std::string::npos) << error;
+  // PLY: refused from the header, with the default limits, before PCL allocates the cloud.
+  const std::string ply = writeText("huge.ply",
+                                    "ply\nformat binary_little_endian 1.0\nelement vertex 2000001\n"
+                                    "property float x\nproperty float y\nproperty float z\nend_header\n");
+  EXPECT_FALSE(vt::readMesh(ply, r, error));
+  EXPECT_NE(error.find("2000001 vertices, over the limit of 2000000 vertices"), std::string::npos) << error;
+  // PLY whose header promises more than the file holds.
+  const std::string shortPly = writeText("short.ply",
+                                         "ply\nformat binary_little_endian 1.0\nelement vertex 100\n"
+                                         "property double x\nproperty double y\nproperty double z\n"
+                                         "element face 10\nproperty list uchar int vertex_indices\nend_header\n" +
+                                             std::string(24, '\0'));
+  EXPECT_FALSE(vt::readMesh(shortPly, r, error));
+  EXPECT_NE(error.find("(at least 2410 bytes of data), but only 24 bytes follow it"), std::string::npos) << error;
+  // STL: the tetrahedron's 4 triangles over a limit of 3.
+  const std::string stl = path("tet.stl");
+  ASSERT_TRUE(vt::writeMesh(stl, tetrahedron(), error)) << error;
+  EXPECT_FALSE(vt::readMesh(stl, r, error, nullptr, small));
+  EXPECT_NE(error.find("holds 4 triangles, over the limit of 3 triangles"), std::string::npos) << error;
+}
+
+// Found by fuzz_mesh_io: a PLY header whose "element face" line is misspelt, so that the face
+// list property belongs to the vertex element. pcl::PLYReader hit assert(false) in
+// vertexListPropertyContentCallback and aborted the process. PLY is now read by our own reader,
+// which refuses unknown header keywords and reads (or skips) any property layout.
+TEST_F(MeshIoTest, PlyHeaderOddLayoutsAreReadOrRefusedNeverCrash) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+                           "property double z\n";
+  const std::string verts = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  struct Case {
+    const char* name;
+    std::string text;
+    bool ok;
+    const char* expect;  // substring of the error when !ok
+  };
+  const Case cases[] = {
+      {"typo.ply", head + "elemenz face 1\nproperty list uchar int vertex_indices\nend_header\n" + verts + "3 0 1 2\n",
+       false, "PLY header line 7: unknown keyword 'elemenz'"},
+      {"list_on_vertex.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+       "property list uchar int tags\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+       "0 0 0 0\n1 0 0 2 7 8\n0 1 0 1 5\n0 0 1 0\n3 0 1 2\n",
+       true, ""},
+      {"face_colour_and_other_element.ply",
+       head + "element edge 1\nproperty int vertex1\nproperty int vertex2\n"
+              "element face 1\nproperty uchar red\nproperty list uchar int vertex_indices\nend_header\n" +
+           verts + "0 1\n200 3 0 1 2\n",
+       true, ""},
+      {"float_indices.ply", head + "element face 1\nproperty list uchar float vertex_indices\nend_header\n" + verts +
+                                "3 0 1 2\n",
+       false, "holds non-integer values"},
+      {"negative_index.ply", head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + verts +
+                                 "3 0 -1 2\n",
+       false, "refers to vertex -1"},
+      {"negative_length.ply", head + "element face 1\nproperty list char int vertex_indices\nend_header\n" + verts +
+                                  "-3 0 1 2\n",
+       false, "negative list length -3"},
+      {"long_list.ply", head + "element face 1\nproperty list uint int vertex_indices\nend_header\n" + verts +
+                            "4000000000 0 1 2\n",
+       false, "a list of 4000000000 items runs past the end of the file"},
+      {"no_x.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nend_header\n0\n", false,
+       "no scalar 'x' property"},
+      {"no_format.ply", "ply\nelement vertex 1\nproperty float x\nend_header\n0\n", false, "no 'format' line"},
+      {"bad_type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n0\n", false,
+       "unknown property type 'quad'"},
+      {"nan.ply", head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 nan\n1 0 0\n0 1 0\n"
+                         "0 0 1\n3 0 1 2\n",
+       false, "non-finite vertex coordinate"},
+      {"short_data.ply", head + "element face 2\nproperty list uchar int vertex_indices\nend_header\n" + verts +
+                             "3 0 1 2\n3 0 1\n",
+       false, "row 1: the data ends early"},
+      {"twice.ply", head + "element vertex 1\nproperty float x\nend_header\n", false, "declared twice"},
+  };
+  for (const Case& c : cases) {
+    const std::string p = writeText(c.name, c.text);
+    vt::TriMesh r;
+    std::string error;
+    EXPECT_EQ(vt::readMesh(p, r, error), c.ok) << c.name << ": " << error;
+    if (c.ok) {
+      EXPECT_EQ(r.V.rows(), 4) << c.name;
+      EXPECT_EQ(r.F.rows(), 1) << c.name;
+    } else {
+      EXPECT_NE(error.find(c.expect), std::string::npos) << c.name << ": " << error;
+    }
+  }
+}
+
+TEST_F(MeshIoTest, PlyBigEndianAndOtherScalarTypes) {
+  // Binary big-endian: float x, y, z, an unused short, faces with ushort indices.
+  std::string s = "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nproperty short q\nelement face 1\nproperty list uchar ushort vertex_indices\n"
+                  "end_header\n";
+  auto be = [&s](const void* p, std::size_t n) {
+    const unsigned char* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) s += static_cast<char>(b[n - 1 - i]);  // host is little-endian
+  };
+  const float xyz[3][3] = {{0.5f, 0, 0}, {1, 2, 0}, {0, 0, -3}};
+  for (const auto& v : xyz) {
+    for (float c : v) be(&c, 4);
+    const std::int16_t q = -7;
+    be(&q, 2);
+  }
+  s += static_cast<char>(3);
+  for (std::uint16_t i : {2, 0, 1}) be(&i, 2);
+  const std::string p = writeText("be.ply", s);
+  vt::TriMesh r;
+  std::string error;
+  ASSERT_TRUE(vt::readMesh(p, r, error)) << error;
+  ASSERT_EQ(r.V.rows(), 3);
+  EXPECT_EQ(r.V.row(1), Eigen::RowVector3d(1, 2, 0));
+  EXPECT_EQ(r.V(2, 2), -3.0);
+  EXPECT_EQ(r.F.row(0), Eigen::RowVector3i(2, 0, 1));
 }

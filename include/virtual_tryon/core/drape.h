@@ -37,6 +37,7 @@ struct DrapeParams {
   double time_budget = 0;      // seconds of wall clock; 0: none. When spent: best state, not converged
   bool resolve = true;         // run the penetration resolver on the result
   ResolverParams resolver;
+  MeshLimits limits;           // the cloth's node count (meshPattern) is held to limits.max_vertices
 };
 
 struct DrapeProgress {
@@ -85,7 +86,9 @@ DrapeResult drape(const Body& body, const Pattern& pattern, const DrapeParams& p
                   TriMesh& garment, const DrapeProgressCallback& progress = nullptr,
                   int progress_every = 25);
 
-// Checks parameters; "" or a message naming the parameter and the allowed range.
+// Checks parameters; "" or a message naming the parameter and the allowed range. Mass (density),
+// stiffnesses, damping, tol, map_size, friction, reflection, dt, iteration counts, settle speed,
+// weld tolerance, time budget, and the limits (max_vertices, max_faces >= 1).
 std::string validateDrapeParams(const DrapeParams& params);
 
 }  // namespace virtual_tryon

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,19 +25,58 @@ struct TriMesh {
   bool empty() const { return V.rows() == 0 || F.rows() == 0; }
 };
 
-// What validate() found. `ok` is false when the mesh cannot be used at all (empty, non-finite
-// coordinates, indices out of range); degenerate faces are counted but do not make it unusable.
+// Size limits for meshes that come from outside (files, messages, patterns). Readers and
+// converters check the declared sizes (a PLY header, a cloud's width * height, polygon counts)
+// against them before allocating anything proportional to those sizes, so a hostile or broken
+// input is refused with a message instead of exhausting memory.
+struct MeshLimits {
+  std::size_t max_vertices = 2000000;  // vertices of one mesh (cloth nodes of one meshed pattern)
+  std::size_t max_faces = 4000000;     // triangles of one mesh, after fan triangulation
+};
+
+// "N vertices, over the limit of M (MeshLimits::max_vertices)" and likewise for faces; "" when
+// within the limits. `what` names the mesh. Only counts: nothing is allocated.
+std::string checkMeshSize(std::uint64_t vertices, std::uint64_t faces, const MeshLimits& limits,
+                          const std::string& what = "mesh");
+
+// What validate() found. `ok` is false when the mesh cannot be used at all (empty, over the size
+// limits, non-finite coordinates, indices out of range; for a body also inside out); degenerate
+// and duplicate faces, duplicate and unused vertices, and a size that suggests millimetres are
+// warnings: counted and described in `warnings`, and the mesh stays usable.
 struct MeshValidation {
   bool ok = true;
-  std::string message;  // first fatal problem, or a summary of the warnings
+  std::string message;  // the fatal problem, or the warnings joined by "; " ("" when clean)
+  std::vector<std::string> warnings;  // one sentence each, naming the mesh
   std::size_t non_finite_vertices = 0;
   std::size_t out_of_range_indices = 0;
   std::size_t degenerate_faces = 0;  // repeated index or zero area (relative to the mesh scale)
+  std::size_t duplicate_faces = 0;   // same three vertices as an earlier face (any order)
+  std::size_t duplicate_vertices = 0;  // exactly the same position as an earlier vertex
   std::size_t unused_vertices = 0;
+  double extent = 0;  // longest side of the bounding box, metres
 };
 
+// Above this longest bounding-box side (metres) a mesh gets a units warning: a person or a garment
+// is a couple of metres, so a 1700 m body was most likely written in millimetres.
+constexpr double kMaxPlausibleExtent = 10.0;
+
 // Checks a mesh. `what` names it in the message ("body", "garment").
-MeshValidation validate(const TriMesh& mesh, const std::string& what = "mesh");
+MeshValidation validate(const TriMesh& mesh, const std::string& what = "mesh",
+                        const MeshLimits& limits = MeshLimits());
+
+// validate(mesh, "body") plus what a body needs: edge topology (an open or non-manifold body is a
+// warning: the resolver then cannot test whether garment pieces lie inside), the number of
+// separate pieces (a warning when more than one), and orientation: a closed body whose signed
+// volume is negative is inside out, which is fatal (the resolver would push the garment in).
+MeshValidation validateBody(const TriMesh& mesh, const MeshLimits& limits = MeshLimits());
+
+// Warnings about a body and a garment together: their bounding boxes far apart (more than the
+// larger of the two extents between them: nothing will touch). Empty when none.
+std::vector<std::string> placementWarnings(const TriMesh& body, const TriMesh& garment);
+// The same from the two bounding boxes (body min, max; garment min, max).
+std::vector<std::string> placementWarnings(const Eigen::Vector3d& bodyMin, const Eigen::Vector3d& bodyMax,
+                                           const Eigen::Vector3d& garmentMin,
+                                           const Eigen::Vector3d& garmentMax);
 
 // Unit face normals, #F by 3; a degenerate face gets (0, 0, 0).
 MatrixX3d faceNormals(const TriMesh& mesh);

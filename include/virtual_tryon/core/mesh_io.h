@@ -5,8 +5,9 @@
 //  * OBJ: own reader and writer. Reads `v` and `f` lines (`f a`, `a/b`, `a//c`, `a/b/c`, negative
 //    = relative indices), ignores everything else. Written in the shortest decimal form that
 //    reads back to the same double, so OBJ round trips are exact.
-//  * PLY: read through PCL (pcl::io::loadPLYFile, any float/double vertex layout, ASCII or
-//    binary); written as binary PLY with `double` x, y, z (exact round trip).
+//  * PLY: own reader (ASCII, binary little- or big-endian; vertex x, y, z of any scalar type,
+//    other properties and elements skipped; faces from the `vertex_indices` / `vertex_index`
+//    list); written as binary PLY with `double` x, y, z (exact round trip).
 //  * STL: read and written through PCL/VTK (pcl::io::loadPolygonFileSTL / savePolygonFileSTL,
 //    binary on write). STL stores float32 corners per triangle: reading welds exactly-equal
 //    coordinates into one vertex, numbered in order of first appearance in the face list, and
@@ -27,9 +28,12 @@ struct MeshReadInfo {
 };
 
 // Reads `path` into `mesh`. Returns false and sets `error` (naming the file and the problem) when
-// the file is missing, unreadable, of an unknown extension, or holds no usable triangle.
+// the file is missing, unreadable, of an unknown extension, holds no usable triangle, or is over
+// `limits`. The limits are checked before anything of the declared size is allocated: OBJ while
+// reading, PLY from its header (whose element counts must also fit in the file), binary STL from
+// its triangle count (which must match the file size) before PCL/VTK read the file.
 bool readMesh(const std::string& path, TriMesh& mesh, std::string& error,
-              MeshReadInfo* info = nullptr);
+              MeshReadInfo* info = nullptr, const MeshLimits& limits = MeshLimits());
 
 // Writes `mesh` to `path` (format by extension) keeping vertex order. Returns false and sets
 // `error` on failure.

@@ -71,7 +71,16 @@ struct Pattern {
 // vertices with from != to and not exactly half-way round, and seam stretches whose lengths differ
 // by at most `maxLengthRatio` (longer / shorter). Returns "" when usable, else the first problem:
 // "panel 'front' (index 0): ..." or "seam 2: ...".
+// Also refused, before anything else is looked at (the self-intersection test is quadratic in the
+// outline size): more than kMaxPatternPanels panels, an outline of more than kMaxOutlinePoints
+// points, more than kMaxPatternOutlinePoints outline points in all, more than kMaxPatternSeams
+// seams. Real garments have a few panels of a few dozen points.
 std::string validatePattern(const Pattern& pattern, double maxLengthRatio = 1.5);
+
+constexpr std::size_t kMaxPatternPanels = 256;
+constexpr std::size_t kMaxOutlinePoints = 2048;
+constexpr std::size_t kMaxPatternOutlinePoints = 16384;
+constexpr std::size_t kMaxPatternSeams = 4096;
 
 // Makes every outline counter-clockwise: a clockwise outline of n points is reversed (point i
 // becomes point n-1-i) and every stretch on it is renumbered the same way (from -> n-1-from,
@@ -153,6 +162,10 @@ struct ClothMesh {
 // stretch polyline is sampled at N points evenly by arc length (from `from` to `to`), sample k of
 // a pairs with sample k of b, each mapped to the nearest boundary node of its panel; exact
 // duplicate pairs and pairs of one node are dropped. A seam left with < 2 pairs is an error.
-bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error);
+// Size: the grids of all panels together (before clipping to the outlines) may hold at most
+// 4 x limits.max_vertices nodes, and the cloth at most limits.max_vertices nodes; both are checked
+// before the grids are allocated (the first) or the cloth is (the second).
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
+                 const MeshLimits& limits = MeshLimits());
 
 }  // namespace virtual_tryon

@@ -44,6 +44,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace virtual_tryon {
 
@@ -72,6 +73,7 @@ class TryonNode {
     std::shared_ptr<const Body> body;
     std::string frame;
     virtual_tryon::BodyReport report;
+    std::vector<std::string> warnings;  // found when it was installed; repeated in every response
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
@@ -105,9 +107,12 @@ class TryonNode {
   void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg);
   void installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
-  // Checks (and flips if inverted) `mesh`, fills `report`; false with `error` when unusable.
-  static bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::string& error);
-  void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report);
+  // Checks (and flips if inverted) `mesh`, fills `report` and `warnings` (open, pieces, units,
+  // flipped ...); false with `error` when unusable.
+  static bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
+                          std::vector<std::string>& warnings, std::string& error);
+  void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report,
+                   std::vector<std::string> warnings);
 
   // auto_fit.cpp
   void onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg);
