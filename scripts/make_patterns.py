@@ -184,14 +184,49 @@ def quaternion_from_axes(x, y, z):
     return tuple(q)
 
 
+CAP_POINTS = 6  # outline points on each half of a sleeve cap, besides its ends
+
+
+def cap_curve(half, cap, n=CAP_POINTS):
+    """The half-cap from the underarm corner (u = half) to the top (u = 0): v above the underarm
+    line = cap * (1 + cos(pi u / half)) / 2; n + 2 points (corner and top included)."""
+    return [(half * (1 - k / (n + 1.0)), cap * 0.5 * (1 + math.cos(math.pi * (1 - k / (n + 1.0)))))
+            for k in range(n + 2)]
+
+
+def polyline_length(pts):
+    return sum(norm(sub(pts[i + 1], pts[i])) for i in range(len(pts) - 1))
+
+
+def cap_half_width(armhole, cap):
+    """Half-width whose half-cap is as long as the armhole (bisection)."""
+    lo, hi = 1e-3, armhole
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if polyline_length(cap_curve(mid, cap)) < armhole:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def sleeve_outline(half, length, cap):
+    """0 cuff left, 1 cuff right, 2 underarm corner right (half, length), the cap over the top
+    (0, length + cap) to the underarm corner left (-half, length), the last point."""
+    right = [(u, length + v) for u, v in cap_curve(half, cap)]
+    left = [(-u, v) for u, v in reversed(right[:-1])]
+    return [(-half, 0), (half, 0)] + right + left
+
+
 def tshirt(L):
     y0 = L["hip_y"] - 0.02
     pts = shirt_outline(L, y0, sleeveless=False)
+    s_out_t = pts[3][0]
     R = max(L["chest_rx"], L["chest_rz"], L["hip_rx"]) + 0.05
     t = (L["axis_x"], y0, L["axis_z"])
     panels = [panel("front", pts, t, wrap=R), panel("back", pts, t, BACK, wrap=R)]
     seams = [seam(*s) for s in TORSO_SEAMS]
-    # Armhole lengths: armpit (2) to shoulder outer (3) on each torso panel.
+    # Armhole: armpit (2) to shoulder outer (3) on each torso panel.
     armhole = norm(sub(pts[3], pts[2]))
     for side, sx in (("right", 1.0), ("left", -1.0)):
         sh = (sx * L["shoulder_joint"][0], L["shoulder_joint"][1], L["shoulder_joint"][2])
@@ -200,27 +235,41 @@ def tshirt(L):
         up = (0.0, 1.0, 0.0)
         zc = unit(sub(up, tuple(axis[i] * sum(up[j] * axis[j] for j in range(3)) for i in range(3))))
         xc = cross(axis, zc)
-        # The sleeve starts on the upper arm clear of the torso (its cap 45% of the way
-        # from the shoulder joint to the elbow); the armhole seams pull the cap in later.
+        # Sleeve cap. The armhole the sleeve is sewn into runs up the side of the torso, from the
+        # armpit to the top of the shoulder, nearly in a vertical plane; the arm leaves it
+        # slanting down and out. A tube cut square (one length all round) can only meet that
+        # slanted loop by stretching its top or tearing the torso's armhole out along the arm:
+        # the T-shirt's armhole seams stuck 2 cm open at the armpit and the shoulder. So the cap
+        # is cut as a real one: its top (u = 0, on top of the arm) is longer than the underarm
+        # by the armhole's extent along the arm, from the armpit seam point to the shoulder point.
+        armpit = (sx * L["chest_rx"], L["armpit_y"] - 0.02, L["axis_z"])
+        shoulder = (sx * s_out_t, L["shoulder_y"], L["axis_z"])
+        cap = max(0.0, sum(sub(shoulder, armpit)[i] * axis[i] for i in range(3)))
+        # The sleeve starts on the upper arm clear of the torso (the underarm end of its cap 45%
+        # of the way from the shoulder joint to the elbow); the armhole seams pull the cap in.
         upper = norm(sub(sh, el))
         length = 0.55 * upper
-        cap = tuple(sh[i] - axis[i] * 0.45 * upper for i in range(3))
-        cuff = tuple(cap[i] - axis[i] * length for i in range(3))
+        cap_base = tuple(sh[i] - axis[i] * 0.45 * upper for i in range(3))
+        cuff = tuple(cap_base[i] - axis[i] * length for i in range(3))
         r = L["arm_r"] + 0.035
-        width = 2 * armhole  # the cap sews to both armholes
-        width = min(width, 2 * math.pi * r * 0.98)
-        spts = [(-width / 2, 0), (width / 2, 0), (width / 2, length), (0, length), (-width / 2, length)]
+        # Half the sleeve's width: its half-cap (underarm corner to top) as long as the armhole,
+        # and the tube at least 1.5 cm looser than the arm all round.
+        half = max(cap_half_width(armhole, cap), math.pi * (L["arm_r"] + 0.015))
+        half = min(half, math.pi * r * 0.98)
+        spts = sleeve_outline(half, length, cap)
+        top, last = (len(spts) + 1) // 2, len(spts) - 1   # cap top (0, length + cap), corner (-half, length)
         panels.append(panel("sleeve_" + side, spts, cuff, quaternion=quaternion_from_axes(xc, axis, zc), wrap=r,
-                            comment="%s sleeve: wrapped round the upper arm, u = 0 on top, seam underneath" % side))
+                            comment="%s sleeve: wrapped round the upper arm, u = 0 on top, seam underneath, "
+                                    "cap %.1f cm high" % (side, 100 * cap)))
         name = "sleeve_" + side
-        seams.append(seam(name, 1, 2, name, 0, 4, "%s sleeve: underarm seam, cuff to cap" % side))
+        seams.append(seam(name, 1, 2, name, 0, last, "%s sleeve: underarm seam, cuff to cap" % side))
         # Local +u of a sleeve points to the body's back on the right arm and to its front on the left.
         if side == "right":
-            seams.append(seam("front", 2, 3, name, 4, 3, "right armhole, front half (after the body is sewn)", 1))
-            seams.append(seam("back", 8, 7, name, 2, 3, "right armhole, back half (after the body is sewn)", 1))
+            seams.append(seam("front", 2, 3, name, last, top, "right armhole, front half (after the body is sewn)", 1))
+            seams.append(seam("back", 8, 7, name, 2, top, "right armhole, back half (after the body is sewn)", 1))
         else:
-            seams.append(seam("front", 8, 7, name, 2, 3, "left armhole, front half (after the body is sewn)", 1))
-            seams.append(seam("back", 2, 3, name, 4, 3, "left armhole, back half (after the body is sewn)", 1))
+            seams.append(seam("front", 8, 7, name, 2, top, "left armhole, front half (after the body is sewn)", 1))
+            seams.append(seam("back", 2, 3, name, last, top, "left armhole, back half (after the body is sewn)", 1))
     return document("tshirt", "T-shirt with short sleeves: the shirt's front and back plus one sleeve per arm,\n"
                     "each sleeve a panel wrapped round the upper arm. Generated by\n"
                     "scripts/make_patterns.py for %s." % L["name"], panels, seams)
