@@ -199,7 +199,16 @@ bool ClothState::step(double dt, bool sewing) {
     }
   }
   fixVelocities();
-  if (hook_) hook_(x_, v_);
+  if (hook_) {
+    hook_(x_, v_);
+    // The collision response changes velocities after the fix and can stretch the cloth again:
+    // a garment hanging on a cone (trousers on the hips) slid down it, the response pushing its
+    // nodes out along the body's normals, until its springs were 30-90% over their rest length.
+    // So once the seams are closed (gravity on) the fix has the last word and no over-long
+    // spring grows. While sewing (no gravity) the response may stretch the cloth: the seam pull
+    // works against the body there, and the springs relax once the seams are welded.
+    if (!sewing) fixVelocities();
+  }
   x_ += dt * v_;
   over_valid_ = false;  // the positions moved
   const double limit2 = params_.runaway_speed * params_.runaway_speed;

@@ -123,6 +123,48 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
   return true;
 }
 
+// Distance from p along the unit axis direction d to the first outline edge it meets, or
+// infinity.
+double rayToOutline(const Vec2& p, const Vec2& d, const MatrixX2d& P) {
+  double best = INFINITY;
+  const Eigen::Index n = P.rows();
+  for (Eigen::Index e = 0; e < n; ++e) {
+    const Vec2 a = polygon2d::point(P, e), b = polygon2d::point(P, (e + 1) % n);
+    const Vec2 ab = b - a;
+    const double den = polygon2d::cross(d, ab);
+    if (std::abs(den) < 1e-15) continue;  // parallel: a neighbouring edge meets the ray instead
+    const double t = polygon2d::cross(a - p, ab) / den;   // along the ray
+    const double s = polygon2d::cross(a - p, d) / den;    // along the edge
+    if (t > 0 && s >= -1e-12 && s <= 1 + 1e-12) best = std::min(best, t);
+  }
+  return best;
+}
+
+// Where a node goes in the flat panel: its grid point, moved out onto the outline along each
+// grid axis on which it has no neighbour, when the outline lies less than two spacings away that
+// way (a boundary node then sits on the cut edge instead of up to two spacings inside it).
+Vec2 snappedUv(const PanelGrid& g, int i, int j) {
+  Vec2 uv = g.uv(i, j);
+  if (g.onOutline[static_cast<std::size_t>(g.at(i, j))]) return uv;
+  auto linked = [&](int a, int b, std::uint8_t bit) { return (g.link[static_cast<std::size_t>(g.at(a, b))] & bit) != 0; };
+  const bool left = g.isUsed(i - 1, j) && linked(i - 1, j, kLinkU), right = g.isUsed(i + 1, j) && linked(i, j, kLinkU);
+  const bool down = g.isUsed(i, j - 1) && linked(i, j - 1, kLinkV), up = g.isUsed(i, j + 1) && linked(i, j, kLinkV);
+  auto push = [&](bool missing, const Vec2& d) -> Vec2 {
+    if (!missing) return Vec2::Zero();
+    const double t = rayToOutline(uv, d, *g.outline);
+    // Under two spacings: the missing neighbour may be a kept node dropped for want of a quad.
+    return t < 2 * g.h ? Vec2(t * d) : Vec2::Zero();
+  };
+  const Vec2 du = push(left != right, Vec2(left ? 1.0 : -1.0, 0.0));
+  const Vec2 dv = push(down != up, Vec2(0.0, down ? 1.0 : -1.0));
+  // A corner node moved both ways can land outside a slanted edge: then it moves one way only
+  // (the longer move that stays inside), or stays.
+  for (const Vec2& c : {Vec2(uv + du + dv), Vec2(uv + (du.norm() >= dv.norm() ? du : dv)),
+                        Vec2(uv + (du.norm() >= dv.norm() ? dv : du))})
+    if (polygon2d::insideOrOn(c, *g.outline, kOnOutline)) return c;
+  return uv;
+}
+
 }  // namespace
 
 bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
@@ -204,7 +246,7 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
       for (int i = 0; i < g.nx; ++i) {
         const int n = id(i, j);
         if (n < 0) continue;
-        const Vec2 uv = g.uv(i, j);
+        const Vec2 uv = snappedUv(g, i, j);
         cloth.UV.row(n) = uv.transpose();
         cloth.X.row(n) = placement.place(uv).transpose();
         cloth.panel[static_cast<std::size_t>(n)] = p;

@@ -209,15 +209,62 @@ TEST(MeshPattern, RectangleGridCountsAndRestLengths) {
   }
 }
 
-TEST(MeshPattern, GridIsCentredOnTheBoundingBox) {
+TEST(MeshPattern, GridIsCentredOnTheBoundingBoxAndBoundaryNodesSnapToTheOutline) {
   Pattern g;
   g.panels.push_back(rectPanel("p", 0, 0, 1.05, 0.5));
   ClothMesh c;
   std::string error;
   ASSERT_TRUE(meshPattern(g, 0.1, c, error)) << error;
   EXPECT_EQ(c.X.rows(), 66);
-  EXPECT_NEAR(c.UV.col(0).minCoeff(), 0.025, 1e-12);
-  EXPECT_NEAR(c.UV.col(0).maxCoeff(), 1.025, 1e-12);
+  // The grid columns lie at 0.025 .. 1.025; the outermost ones move out onto the cut edges (0 and
+  // 1.05), so the meshed panel is as wide as the pattern. Rest lengths follow the moved nodes.
+  EXPECT_NEAR(c.UV.col(0).minCoeff(), 0.0, 1e-12);
+  EXPECT_NEAR(c.UV.col(0).maxCoeff(), 1.05, 1e-12);
+  int inner = 0;
+  for (Eigen::Index n = 0; n < c.UV.rows(); ++n) inner += std::abs(c.UV(n, 0) - 0.525) < 1e-9;
+  EXPECT_EQ(inner, 6);  // the middle column stays on the grid
+  for (const Spring& s : c.springs) EXPECT_NEAR(s.rest, (c.UV.row(s.a) - c.UV.row(s.b)).norm(), 1e-15);
+}
+
+TEST(MeshPattern, BoundaryNodesOfASlantedEdgeSnapOntoIt) {
+  // A trapezoid whose slanted sides cut the grid rows between nodes. Every node that lacks a
+  // structural neighbour moves onto the outline (never past it), so the meshed quads cover the
+  // whole panel; the grid alone would miss up to two spacings along each slanted side.
+  Pattern g;
+  PatternPanel p;
+  p.name = "t";
+  p.outline.resize(4, 2);
+  p.outline << -0.5, 0, 0.5, 0, 0.3, 0.6, -0.3, 0.6;
+  g.panels.push_back(p);
+  ClothMesh c;
+  std::string error;
+  ASSERT_TRUE(meshPattern(g, 0.07, c, error)) << error;
+  auto toOutline = [](double u, double v) {
+    const double side = (std::abs(u) - (0.5 - v / 3)) / std::sqrt(1 + 1.0 / 9);  // signed, > 0 outside
+    return std::min({std::abs(side), std::abs(v), std::abs(v - 0.6)});
+  };
+  std::vector<int> neighbours(static_cast<std::size_t>(c.UV.rows()), 0);
+  for (const Spring& s : c.springs)
+    if (s.type == SpringType::Structural) ++neighbours[s.a], ++neighbours[s.b];
+  int boundary = 0;
+  for (Eigen::Index n = 0; n < c.UV.rows(); ++n) {
+    const double u = c.UV(n, 0), v = c.UV(n, 1);
+    EXPECT_LE(std::abs(u), 0.5 - v / 3 + 1e-9) << "node " << n << " outside the outline";
+    EXPECT_GE(v, -1e-9);
+    EXPECT_LE(v, 0.6 + 1e-9);
+    if (neighbours[static_cast<std::size_t>(n)] < 4) {
+      ++boundary;
+      EXPECT_LT(toOutline(u, v), 1e-9) << "boundary node " << n << " at (" << u << ", " << v << ")";
+    }
+  }
+  EXPECT_GT(boundary, 20);
+  double area = 0;
+  for (const auto& q : c.quads)
+    for (int i = 0; i < 4; ++i)
+      area += 0.5 * (c.UV(q[i], 0) * c.UV(q[(i + 1) % 4], 1) - c.UV(q[(i + 1) % 4], 0) * c.UV(q[i], 1));
+  EXPECT_LE(area, 0.48 + 1e-9);
+  EXPECT_GT(area, 0.95 * 0.48);
+  EXPECT_LT(static_cast<double>(c.quads.size()) * 0.07 * 0.07, 0.85 * 0.48);  // the grid alone
 }
 
 TEST(MeshPattern, NormalsFollowThePoseAndPointOutwardOnAWrap) {
@@ -406,7 +453,7 @@ TEST(MeshPattern, Errors) {
   EXPECT_EQ(error, "panel 'small' (index 0): spacing 1e-05 m gives a 10001 x 5001 grid, more than 20000000 nodes");
 
   // A seam along a 5 cm edge at 10 cm spacing: the edge's grid node belongs to no quad and is
-  // dropped, so no boundary node is near either stretch.
+  // dropped; only the corner node below it, snapped onto the outline, is near either stretch.
   Pattern s;
   for (const char* name : {"a", "b"})
     s.panels.push_back(PatternPanel{name, outlineOf({{0, 0}, {0.5, 0}, {0.5, 0.05}, {0.25, 0.5}, {0, 0.5}}), PanelPlacement()});
@@ -414,8 +461,8 @@ TEST(MeshPattern, Errors) {
   EXPECT_EQ(validatePattern(s), "");
   EXPECT_FALSE(meshPattern(s, 0.1, c, error));
   EXPECT_EQ(error,
-            "seam 0: only 0 distinct node pairs at spacing 0.1 m (boundary nodes within 0.75 * spacing: 0 of "
-            "panel 'a' (index 0) near a, 0 of panel 'b' (index 1) near b); a seam needs at least 2, use a finer "
+            "seam 0: only 0 distinct node pairs at spacing 0.1 m (boundary nodes within 0.75 * spacing: 1 of "
+            "panel 'a' (index 0) near a, 1 of panel 'b' (index 1) near b); a seam needs at least 2, use a finer "
             "spacing");
   EXPECT_TRUE(meshPattern(s, 0.025, c, error)) << error;
   // An invalid pattern is refused with validatePattern's message.
@@ -820,7 +867,8 @@ TEST(PatternYaml, ExampleFiles) {
   for (int seam = 0; seam < 2; ++seam) {
     const auto pairs = pairsOfSeam(c, seam);
     // 26 rows of 2 cm: every row's side node is sewn once (the grid is not aligned with the
-    // slanted sides, so their nodes are up to 2 cm in from the outline).
+    // slanted sides; their nodes are snapped out onto them, the corner ones also onto the hem or
+    // the waist, which can put two of them in one 2 cm band).
     EXPECT_EQ(pairs.size(), 26u);
     std::set<int> rowsA, rowsB;
     for (const SeamPair& p : pairs) {
@@ -829,8 +877,8 @@ TEST(PatternYaml, ExampleFiles) {
       EXPECT_NEAR(c.X(p.a, 1), c.X(p.b, 1), 1e-9);               // hem to hem, waist to waist
       EXPECT_LT((c.X.row(p.a) - c.X.row(p.b)).norm(), 0.06);     // a few cm apart on a 0.6 m panel
     }
-    EXPECT_EQ(rowsA.size(), 26u);
-    EXPECT_EQ(rowsB.size(), 26u);
+    EXPECT_GE(rowsA.size(), 25u);
+    EXPECT_GE(rowsB.size(), 25u);
   }
   ASSERT_TRUE(meshPattern(sheet, 0.05, c, error)) << error;
   EXPECT_EQ(c.X.rows(), 17 * 13);

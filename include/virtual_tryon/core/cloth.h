@@ -73,6 +73,8 @@ class ClothState {
   // (mass summed, position and velocity averaged). Returns how many seams were welded.
   int weldClosedSeams(double tolerance);
   int openSeams() const;
+  // The seam pairs still open (node indices of the current, possibly welded, state).
+  const std::vector<SeamPair>& openSeamPairs() const { return seams_; }
 
   double kineticEnergy() const;
   double maxSpeed() const;

@@ -33,7 +33,10 @@ struct DrapeParams {
   int max_sew_iterations = 4000;
   int max_iterations = 8000;   // sewing and draping together
   int min_drape_iterations = 40;
-  double settle_speed = 0.02;  // m/s: settled when the rms node speed is below it, after welding
+  // m/s: after welding, settled when the nodes' net speed over the last 0.1 s of simulated time
+  // (at least 25 iterations), displacement / duration, rms over the nodes, is below it (the
+  // instantaneous speed of a resting cloth is mostly contact chatter: see drape.cpp)
+  double settle_speed = 0.02;
   double time_budget = 0;      // seconds of wall clock; 0: none. When spent: best state, not converged
   bool resolve = true;         // run the penetration resolver on the result
   ResolverParams resolver;
@@ -70,7 +73,8 @@ struct DrapeResult {
   int seams_total = 0, seams_open = 0;
   double seam_gap_max = 0, seam_gap_mean = 0;  // of the seams still open, metres
   double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs
-  double max_speed = 0, kinetic_energy = 0;    // at the end
+  double max_speed = 0, kinetic_energy = 0;    // at the end (instantaneous)
+  double net_speed = 0;  // m/s: the last settle test's net rms speed over its window (0: none yet)
   // Garment vertices inside the body mesh (not the maps), before and after the resolver pass.
   std::size_t penetrating_before_resolve = 0, penetrating_after = 0;
   bool resolver_run = false;

@@ -147,7 +147,12 @@ struct ClothMesh {
 // Details. Per panel the grid has floor(width / spacing) + 1 by floor(height / spacing) + 1 nodes
 // and is centred on the outline's bounding box (so a rectangle whose sides are multiples of the
 // spacing gets nodes on its whole boundary). A node is kept when inside the outline or within
-// 1e-9 m of it. Two grid neighbours are linked only when the segment between them stays inside
+// 1e-9 m of it. A kept node that lacks its neighbour on one side along a grid axis (and is not
+// on the outline) is moved out along that axis onto the outline when it lies less than two
+// spacings away (a corner node both ways, or only one way when both would leave the outline), so
+// the meshed panel is as wide and as tall as its pattern at any spacing (without it a coarse grid
+// loses up to two spacings at every slanted edge, a kept node in no quad being dropped:
+// body_hm08's trousers at 3.7 cm lost 10-27% of their waist). UV holds the moved positions; links, quads and springs are decided on the grid. Two grid neighbours are linked only when the segment between them stays inside
 // the outline (so a notch or dart narrower than the spacing is not bridged); a quad needs its four
 // corners kept and its four sides linked. Kept nodes in no quad are dropped. Quads are
 // (i,j), (i+1,j), (i+1,j+1), (i,j+1) (counter-clockwise in uv), triangles (c0,c1,c2), (c0,c2,c3),
