@@ -26,8 +26,8 @@ void TryonNode::onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
   try {
     auto mesh = std::make_shared<TriMesh>();
     std::string error;
-    if (rc::fromMsg(*msg, *mesh, error)) {
-      const MeshValidation v = validate(*mesh, "garment");
+    if (rc::fromMsg(*msg, *mesh, error, settings_.limits)) {
+      const MeshValidation v = validate(*mesh, "garment", settings_.limits);
       if (!v.ok) error = v.message;
     } else {
       error = "garment: " + error;

@@ -36,38 +36,6 @@ std::uint64_t scanHash(const sensor_msgs::PointCloud2& c) {
   return h;
 }
 
-// The scan's normal_x/y/z as #P by 3 (empty when the scan has none).
-bool scanNormals(const sensor_msgs::PointCloud2& cloud, MatrixX3d& N, std::string& error) {
-  const char* names[3] = {"normal_x", "normal_y", "normal_z"};
-  int found = 0;
-  for (const auto& f : cloud.fields)
-    for (const char* n : names) found += f.name == n;
-  if (found == 0) {
-    N.resize(0, 3);
-    return true;
-  }
-  if (found != 3) {
-    error = "scan has some but not all of normal_x, normal_y, normal_z";
-    return false;
-  }
-  // Read them with the x/y/z reader: a copy of the cloud whose normal fields carry the x/y/z names.
-  sensor_msgs::PointCloud2 renamed = cloud;
-  renamed.fields.clear();
-  for (const auto& f : cloud.fields) {
-    sensor_msgs::PointField g = f;
-    if (f.name == "normal_x") g.name = "x";
-    else if (f.name == "normal_y") g.name = "y";
-    else if (f.name == "normal_z") g.name = "z";
-    else continue;
-    renamed.fields.push_back(g);
-  }
-  if (!rc::pointCloudToVertices(renamed, N, error)) {
-    error = "scan normals: " + error;
-    return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
@@ -112,7 +80,7 @@ void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) 
   std::string frame, error;
   virtual_tryon::BodyReport report;
   report.source = "mesh";
-  if (!rc::fromMsg(*msg, mesh, error)) error = "body: " + error;
+  if (!rc::fromMsg(*msg, mesh, error, settings_.limits)) error = "body: " + error;
   else if (bodyFrame(*msg, frame, error)) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -123,7 +91,7 @@ void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) 
         return;
       }
     }
-    const MeshValidation v = validate(mesh, "body");
+    const MeshValidation v = validate(mesh, "body", settings_.limits);
     if (!v.ok) error = v.message;
     else if (std::vector<std::string> warnings; inspectBody(mesh, report, warnings, error)) {
       installBody(std::move(mesh), frame, std::move(report), std::move(warnings));
@@ -153,8 +121,7 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
     }
   }
   MatrixX3d points, normals;
-  if (error.empty() && rc::pointCloudToVertices(*msg, points, error) &&
-      scanNormals(*msg, normals, error)) {
+  if (error.empty() && rc::pointCloudToPoints(*msg, points, &normals, error, settings_.limits)) {
     const ScanMeshingResult scan = meshScan(points, normals, settings_.scan);
     if (!scan.success) {
       error = "scan: " + scan.message;

@@ -33,14 +33,14 @@ bool sameMesh(const TriMesh& a, const TriMesh& b) {
 }
 
 // Converts and validates; `what` ("body", "garment") prefixes the error.
-bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, TriMesh& mesh,
-                 std::string& error) {
-  if (!rc::fromMsg(msg, mesh, error)) {
+bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, const MeshLimits& limits,
+                 TriMesh& mesh, std::string& error) {
+  if (!rc::fromMsg(msg, mesh, error, limits)) {
     error = what + ": " + error;
     return false;
   }
   // A body is checked further (and flipped if inside out) by inspectBody.
-  const MeshValidation v = validate(mesh, what);
+  const MeshValidation v = validate(mesh, what, limits);
   if (!v.ok) {
     error = v.message;
     return false;
@@ -174,7 +174,12 @@ void TryonNode::readParameters() {
                                                                  << "; using the defaults");
     settings_.scan = sd;
   }
+  settings_.limits.max_vertices = static_cast<std::size_t>(
+      readCount(pnh_, "max_vertices", static_cast<int>(settings_.limits.max_vertices)));
+  settings_.limits.max_faces = static_cast<std::size_t>(
+      readCount(pnh_, "max_faces", static_cast<int>(settings_.limits.max_faces)));
   settings_.drape = readDrapeParameters(pnh_, settings_.resolver);
+  settings_.drape.limits = settings_.limits;
 }
 
 bool TryonNode::bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame,
@@ -223,7 +228,7 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
     return true;
   }
   TriMesh mesh;
-  if (!meshFromMsg(msg, "body", mesh, error) || !bodyFrame(msg, out.frame, error)) return false;
+  if (!meshFromMsg(msg, "body", settings_.limits, mesh, error) || !bodyFrame(msg, out.frame, error)) return false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (topic_body_.body && sameMesh(topic_body_.body->mesh(), mesh)) {
@@ -263,7 +268,7 @@ bool TryonNode::requestGarment(const pcl_msgs::PolygonMesh& msg, TriMesh& mesh,
   }
   header = msg.header;
   header.frame_id = frameOf(msg);
-  return meshFromMsg(msg, "garment", mesh, error);
+  return meshFromMsg(msg, "garment", settings_.limits, mesh, error);
 }
 
 bool TryonNode::lookupTransform(const std::string& from, const std::string& to,

@@ -62,6 +62,7 @@ class TryonNode {
     ResolverParams resolver;
     DrapeParams drape;  // its resolver part is `resolver`
     ScanMeshingParams scan;
+    MeshLimits limits;        // refused before allocation: ~max_vertices, ~max_faces
     double tf_timeout = 0.5;  // seconds
     std::string body_frame;   // "" = the body message's frame_id (fallback "body")
     bool auto_fit = false;    // fit each new body / garment on the worker and publish the result
