@@ -149,8 +149,15 @@ void expectGoodRequestsStillWork() {
 }  // namespace
 
 TEST(MalformedServices, ResolveSharedMeshCases) {
-  for (const vt_malformed::MeshCase& tc : vt_malformed::meshCases()) {
+  for (vt_malformed::MeshCase tc : vt_malformed::meshCases()) {
     SCOPED_TRACE(tc.name);
+    if (tc.name == "inverted body") {
+      // The CLI refuses an inside-out body; the node flips it and says so (a scanner's mesh may
+      // come wound either way).
+      tc.ok = true;
+      tc.warns = true;
+      tc.message = "; warning: body arrived inside out (inward normals) and was flipped";
+    }
     const ResolvePenetration::Response res = resolve(msg64(tc.body), msg64(tc.garment));
     EXPECT_EQ(static_cast<bool>(res.success), tc.ok) << res.message;
     EXPECT_TRUE(contains(res.message, tc.message)) << "'" << tc.message << "' not in: " << res.message;
