@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/reference_bvh.h"
 
+#include "reference_predicates.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -10,41 +12,9 @@
 namespace virtual_tryon {
 namespace {
 
-// The predicates of reference_check.cpp, kept identical (a unit test compares the counts).
-bool mtHit(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, const Eigen::Vector3d& a,
-           const Eigen::Vector3d& b, const Eigen::Vector3d& c, double eps) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d p = dir.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) < 1e-300) return false;
-  const double inv = 1.0 / det;
-  const Eigen::Vector3d s = o - a;
-  const double u = s.dot(p) * inv;
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = dir.dot(q) * inv;
-  if (v < 0 || u + v > 1) return false;
-  const double t = e2.dot(q) * inv;
-  return t > eps && t < 1 - eps;
-}
-
-double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  const double nn = n.squaredNorm();
-  if (nn > 0) {
-    const Eigen::Vector3d q = p - n * (n.dot(p - a) / nn);
-    const double w0 = (b - q).cross(c - q).dot(n), w1 = (c - q).cross(a - q).dot(n),
-                 w2 = (a - q).cross(b - q).dot(n);
-    if (w0 >= 0 && w1 >= 0 && w2 >= 0) return (p - q).norm();
-  }
-  auto seg = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-    const Eigen::Vector3d d = v - u;
-    const double t = d.squaredNorm() > 0 ? std::clamp((p - u).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-    return (p - (u + t * d)).norm();
-  };
-  return std::min({seg(a, b), seg(b, c), seg(c, a)});
-}
+// The predicates of reference_check.cpp (a unit test compares the counts).
+using reference_predicates::mtHit;
+using reference_predicates::pointTriangleDistance;
 
 Eigen::Vector3d corner(const TriMesh& m, Eigen::Index f, int k) { return m.V.row(m.F(f, k)).transpose(); }
 

@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/reference_check.h"
 
+#include "reference_predicates.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -18,23 +20,8 @@ struct Box {
 };
 
 // Moller-Trumbore: does segment o + t dir, t in (eps, 1 - eps), hit the triangle (u, v > 0)?
-bool mtHit(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, const Eigen::Vector3d& a,
-           const Eigen::Vector3d& b, const Eigen::Vector3d& c, double eps, double* tOut = nullptr) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d p = dir.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) < 1e-300) return false;
-  const double inv = 1.0 / det;
-  const Eigen::Vector3d s = o - a;
-  const double u = s.dot(p) * inv;
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = dir.dot(q) * inv;
-  if (v < 0 || u + v > 1) return false;
-  const double t = e2.dot(q) * inv;
-  if (tOut) *tOut = t;
-  return t > eps && t < 1 - eps;
-}
+using reference_predicates::mtHit;
+using reference_predicates::pointTriangleDistance;
 
 std::vector<Box> faceBoxes(const TriMesh& m) {
   std::vector<Box> boxes(static_cast<std::size_t>(m.F.rows()));
@@ -64,25 +51,6 @@ std::size_t countEdgeCrossings(const TriMesh& edgesOf, const TriMesh& facesOf, d
     }
   }
   return n;
-}
-
-double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  // Projection if inside, else the nearest of the three edges.
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  const double nn = n.squaredNorm();
-  if (nn > 0) {
-    const Eigen::Vector3d q = p - n * (n.dot(p - a) / nn);
-    const double w0 = (b - q).cross(c - q).dot(n), w1 = (c - q).cross(a - q).dot(n),
-                 w2 = (a - q).cross(b - q).dot(n);
-    if (w0 >= 0 && w1 >= 0 && w2 >= 0) return (p - q).norm();
-  }
-  auto seg = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-    const Eigen::Vector3d d = v - u;
-    const double t = d.squaredNorm() > 0 ? std::clamp((p - u).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-    return (p - (u + t * d)).norm();
-  };
-  return std::min({seg(a, b), seg(b, c), seg(c, a)});
 }
 
 }  // namespace
