@@ -12,9 +12,30 @@
 # (run_tests.out) and searched. Any report fails the run and is printed. Undefined behaviour
 # aborts the process (-fno-sanitize-recover), which also fails its test. Leak suppressions:
 # test/sanitizers/lsan.supp.
+#
+# scripts/test.sh --ci: what CI runs (.ci/run): the suite, then the same suite sanitized, then
+# each libFuzzer target for 10 s. Every step runs; it fails if any step failed.
 set -euo pipefail
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 REPO=$(cd "$HERE/.." && pwd)
+if [[ ${1:-} == --ci ]]; then
+  status=0
+  step() {
+    local name=$1 t0=$SECONDS
+    shift
+    echo "==== ci: $name ===="
+    if "$@"; then
+      echo "==== ci: $name: passed ($((SECONDS - t0)) s) ===="
+    else
+      echo "==== ci: $name: FAILED ($((SECONDS - t0)) s) ===="
+      status=1
+    fi
+  }
+  step "tests" "$HERE/test.sh"
+  step "tests under ASan + UBSan" env VT_SANITIZE=1 "$HERE/test.sh"
+  step "fuzz targets, 10 s each" "$HERE/fuzz.sh" 10
+  exit $status
+fi
 SANITIZE=${VT_SANITIZE:-0}
 if [[ $SANITIZE == 1 ]]; then
   export VT_WS=${VT_WS:-$REPO/.ws_asan}
