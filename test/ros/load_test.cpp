@@ -87,6 +87,11 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
   pnh.param("duration", duration, duration);
   pnh.param("clients", clients, clients);
   pnh.param("max_rss_growth_mb", maxGrowth, maxGrowth);
+#if defined(__SANITIZE_ADDRESS__)
+  // Under AddressSanitizer freed memory waits in a quarantine (256 MB by default) before reuse,
+  // so the node's RSS grows under load whatever the code does: only a gross growth is checked.
+  maxGrowth = std::max(maxGrowth, 1024.0);
+#endif
   ASSERT_TRUE(ros::service::waitForService("/tryon_node/resolve_penetration", ros::Duration(30)));
   ASSERT_TRUE(ros::service::waitForService("/tryon_node/drape", ros::Duration(30)));
   const int pid = nodePid("/tryon_node");
