@@ -101,16 +101,20 @@ void TryonNode::fitGarmentMesh() {
 }
 
 void TryonNode::fitPattern() {
-  DrapeInput in;
+  std::shared_ptr<const virtual_tryon::GarmentPattern> pattern;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!topic_body_.body) {
       ROS_INFO("tryon_node: auto_fit: pattern waiting for a body");
       return;
     }
-    if (!topic_pattern_.msg) return;
-    in.pattern = *topic_pattern_.msg;
+    pattern = topic_pattern_.msg;
   }
+  if (!pattern) return;
+  const pcl_msgs::PolygonMesh noBody;  // empty: the latest body
+  DrapeInput in;
+  in.body = &noBody;
+  in.pattern = pattern.get();
   DrapeOutput out;
   drapeCaught(in, out, nullptr, /*publish=*/true);
 }

@@ -69,6 +69,31 @@ class ProgressLog {
 
 }  // namespace
 
+namespace {
+
+// The Drape request and the DrapeGarment goal carry the same fields; so do the response and the
+// result.
+template <typename Request, typename Input>
+void borrowInput(const Request& r, Input& in) {
+  in.body = &r.body;
+  in.pattern = &r.pattern;
+  in.spacing = r.spacing;
+  in.dt = r.dt;
+  in.collision_mode = r.collision_mode;
+  in.max_iterations = r.max_iterations;
+  in.skip_resolve = r.skip_resolve;
+}
+
+template <typename Output, typename Response>
+void moveOutput(Output& out, Response& r) {
+  r.success = out.success;
+  r.message = std::move(out.message);
+  r.garment = std::move(out.garment);
+  r.report = std::move(out.report);
+}
+
+}  // namespace
+
 DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
                                            const ResolverParams& resolver) {
   DrapeParams p;
@@ -115,32 +140,17 @@ DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
 
 bool TryonNode::onDrape(virtual_tryon::Drape::Request& req, virtual_tryon::Drape::Response& res) {
   DrapeInput in;
-  in.body = req.body;
-  in.pattern = req.pattern;
-  in.spacing = req.spacing;
-  in.dt = req.dt;
-  in.collision_mode = req.collision_mode;
-  in.max_iterations = req.max_iterations;
-  in.skip_resolve = req.skip_resolve;
+  borrowInput(req, in);
   DrapeOutput out;
   ProgressLog log;
   drapeCaught(in, out, [&log](const DrapeProgress& p) { return log(p); }, /*publish=*/true);
-  res.success = out.success;
-  res.message = out.message;
-  res.garment = std::move(out.garment);
-  res.report = std::move(out.report);
+  moveOutput(out, res);
   return true;  // the call itself worked; the response says why it failed
 }
 
 void TryonNode::onDrapeGoal(const virtual_tryon::DrapeGarmentGoalConstPtr& goal) {
   DrapeInput in;
-  in.body = goal->body;
-  in.pattern = goal->pattern;
-  in.spacing = goal->spacing;
-  in.dt = goal->dt;
-  in.collision_mode = goal->collision_mode;
-  in.max_iterations = goal->max_iterations;
-  in.skip_resolve = goal->skip_resolve;
+  borrowInput(*goal, in);
   ProgressLog log;
   auto progress = [this, &log](const DrapeProgress& p) {
     virtual_tryon::DrapeGarmentFeedback fb;
@@ -157,10 +167,7 @@ void TryonNode::onDrapeGoal(const virtual_tryon::DrapeGarmentGoalConstPtr& goal)
   DrapeOutput out;
   drapeCaught(in, out, progress, /*publish=*/true);
   virtual_tryon::DrapeGarmentResult result;
-  result.success = out.success;
-  result.message = out.message;
-  result.garment = std::move(out.garment);
-  result.report = std::move(out.report);
+  moveOutput(out, result);
   if (result.report.cancelled || drape_action_->isPreemptRequested())
     drape_action_->setPreempted(result, result.message);
   else if (result.success)
@@ -211,7 +218,7 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   if (!error.empty()) return false;
 
   Pattern pattern;
-  if (!rc::fromMsg(req.pattern, pattern, error)) {
+  if (!rc::fromMsg(*req.pattern, pattern, error)) {
     error = "pattern: " + error;
     return false;
   }
@@ -221,11 +228,11 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
     return false;
   }
   BodyState body;
-  if (!requestBody(req.body, body, error)) return false;
-  const std::string& patternFrame = req.pattern.header.frame_id;
+  if (!requestBody(*req.body, body, error)) return false;
+  const std::string& patternFrame = req.pattern->header.frame_id;
   if (!patternFrame.empty() && patternFrame != body.frame) {
     Eigen::Isometry3d T;
-    if (!lookupTransform(patternFrame, body.frame, "pattern", req.pattern.header.stamp, T, error))
+    if (!lookupTransform(patternFrame, body.frame, "pattern", req.pattern->header.stamp, T, error))
       return false;
     for (PatternPanel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
   }

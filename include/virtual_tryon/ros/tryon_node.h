@@ -83,10 +83,10 @@ class TryonNode {
   struct PatternState {
     std::shared_ptr<const virtual_tryon::GarmentPattern> msg;
   };
-  // What a drape needs from a request or a goal.
+  // What a drape needs from a request or a goal (the body and pattern are borrowed, not copied).
   struct DrapeInput {
-    pcl_msgs::PolygonMesh body;
-    virtual_tryon::GarmentPattern pattern;
+    const pcl_msgs::PolygonMesh* body = nullptr;
+    const virtual_tryon::GarmentPattern* pattern = nullptr;
     double spacing = 0, dt = 0;
     std::string collision_mode;
     std::uint32_t max_iterations = 0;
