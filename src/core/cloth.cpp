@@ -38,11 +38,13 @@ ClothState::ClothState(const ClothMesh& mesh, const ClothParams& params)
   m_.assign(static_cast<std::size_t>(n), mass_);
   k_.resize(springs_.size());
   for (std::size_t i = 0; i < springs_.size(); ++i) k_[i] = stiffnessOf(params, springs_[i].type);
+  packSprings();
   int nSeams = static_cast<int>(mesh.seam_stage.size());
   for (const auto& s : seams_) nSeams = std::max(nSeams, s.seam + 1);
   seam_welded_.assign(static_cast<std::size_t>(nSeams), 0);
   seam_stage_ = mesh.seam_stage;
   seam_stage_.resize(static_cast<std::size_t>(nSeams), 0);
+  countOpenSeams();
 }
 
 double ClothState::maxStiffness(bool withSeams) const {
@@ -72,43 +74,60 @@ double ClothState::stableTimeStep() const {
   return std::isfinite(dt) ? dt : 0.0;
 }
 
+void ClothState::packSprings() {
+  const std::size_t n = springs_.size();
+  packed_.a.resize(n);
+  packed_.b.resize(n);
+  packed_.rest.resize(n);
+  packed_.k.resize(n);
+  for (std::size_t s = 0; s < n; ++s) {
+    packed_.a[s] = springs_[s].a;
+    packed_.b[s] = springs_[s].b;
+    packed_.rest[s] = springs_[s].rest;
+    packed_.k[s] = k_[s];
+  }
+}
+
 void ClothState::computeForces() {
   // Raw loops over the row-major n x 3 buffers: this is the hot path of every iteration.
   const Eigen::Index n = x_.rows();
+  if (x4_.rows() != static_cast<std::size_t>(n)) {
+    x4_.resize(static_cast<std::size_t>(n));
+    f4_.resize(static_cast<std::size_t>(n));
+  }
   const double* x = x_.data();
   const double* v = v_.data();
-  double* f = f_.data();
+  double* x4 = x4_.data();
+  double* f4 = f4_.data();
   const double gx = params_.gravity.x(), gy = params_.gravity.y(), gz = params_.gravity.z();
   const double c = params_.damping_rate;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double m = m_[i];
-    f[3 * i + 0] = m * (gx - c * v[3 * i + 0]);
-    f[3 * i + 1] = m * (gy - c * v[3 * i + 1]);
-    f[3 * i + 2] = m * (gz - c * v[3 * i + 2]);
+    x4[4 * i + 0] = x[3 * i + 0];
+    x4[4 * i + 1] = x[3 * i + 1];
+    x4[4 * i + 2] = x[3 * i + 2];
+    f4[4 * i + 0] = m * (gx - c * v[3 * i + 0]);
+    f4[4 * i + 1] = m * (gy - c * v[3 * i + 1]);
+    f4[4 * i + 2] = m * (gz - c * v[3 * i + 2]);
   }
-  // The velocity fix needs the over-stretched springs of these positions: note them on the way.
+  // The velocity fix needs the over-stretched springs of these positions: the kernel notes them.
+  over_index_.clear();
+  addSpringForces(packed_, x4_, f4_, 1.0 + params_.stretch_threshold, params_.vectorized, over_index_);
+  double* f = f_.data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    f[3 * i + 0] = f4[4 * i + 0];
+    f[3 * i + 1] = f4[4 * i + 1];
+    f[3 * i + 2] = f4[4 * i + 2];
+  }
   over_.clear();
-  const double limit = 1.0 + params_.stretch_threshold;
-  const std::size_t ns = springs_.size();
-  for (std::size_t s = 0; s < ns; ++s) {
-    const Spring& sp = springs_[s];
-    const double* xa = x + 3 * sp.a;
-    const double* xb = x + 3 * sp.b;
-    const double dx = xb[0] - xa[0], dy = xb[1] - xa[1], dz = xb[2] - xa[2];
-    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (!(len > 0)) continue;
-    if (len > limit * sp.rest) over_.push_back({static_cast<int>(s), Eigen::RowVector3d(dx / len, dy / len, dz / len)});
-    const double k = k_[s] * (len - sp.rest) / len;
-    double* fa = f + 3 * sp.a;
-    double* fb = f + 3 * sp.b;
-    fa[0] += k * dx;
-    fa[1] += k * dy;
-    fa[2] += k * dz;
-    fb[0] -= k * dx;
-    fb[1] -= k * dy;
-    fb[2] -= k * dz;
-  }
+  for (int s : over_index_) addStretched(springs_[s].a, springs_[s].b);
   over_valid_ = true;
+}
+
+void ClothState::addStretched(int a, int b) {
+  const Eigen::RowVector3d d = x_.row(b) - x_.row(a);
+  const double len = d.norm();
+  over_.push_back({a, b, {d.x() / len, d.y() / len, d.z() / len}});
 }
 
 void ClothState::fixVelocities() {
@@ -118,26 +137,31 @@ void ClothState::fixVelocities() {
   if (!over_valid_) {
     over_.clear();
     const double limit = 1.0 + params_.stretch_threshold;
-    for (std::size_t s = 0; s < springs_.size(); ++s) {
-      const Eigen::RowVector3d d = x_.row(springs_[s].b) - x_.row(springs_[s].a);
-      const double len = d.norm();
-      if (len > 0 && len > limit * springs_[s].rest) over_.push_back({static_cast<int>(s), d / len});
+    for (const Spring& sp : springs_) {
+      const double len = (x_.row(sp.b) - x_.row(sp.a)).norm();
+      if (len > 0 && len > limit * sp.rest) addStretched(sp.a, sp.b);
     }
     over_valid_ = true;
   }
+  double* v = v_.data();
+  auto along = [v](int node, const double* u) { return v[3 * node] * u[0] + v[3 * node + 1] * u[1] + v[3 * node + 2] * u[2]; };
   for (int pass = 0; pass < params_.velocity_fix_passes; ++pass) {
     std::size_t acted = 0;
     for (const Stretched& o : over_) {
-      const Spring& sp = springs_[o.spring];
-      const Eigen::RowVector3d& u = o.unit;
-      const double va = v_.row(sp.a).dot(u), vb = v_.row(sp.b).dot(u);
+      const double va = along(o.a, o.u), vb = along(o.b, o.u);
       bool changed = false;
       if (va < 0) {  // a moves away from b
-        v_.row(sp.a) -= va * u;
+        double* w = v + 3 * o.a;
+        w[0] -= va * o.u[0];
+        w[1] -= va * o.u[1];
+        w[2] -= va * o.u[2];
         changed = true;
       }
       if (vb > 0) {  // b moves away from a
-        v_.row(sp.b) -= vb * u;
+        double* w = v + 3 * o.b;
+        w[0] -= vb * o.u[0];
+        w[1] -= vb * o.u[1];
+        w[2] -= vb * o.u[2];
         changed = true;
       }
       acted += changed;
@@ -150,10 +174,8 @@ void ClothState::fixVelocities() {
   // velocity stretches nothing and touches no other node), so afterwards no over-stretched spring
   // gets longer, exactly.
   for (const Stretched& o : over_) {
-    const Spring& sp = springs_[o.spring];
-    const Eigen::RowVector3d& u = o.unit;
-    if (v_.row(sp.a).dot(u) < 0) v_.row(sp.a).setZero();
-    if (v_.row(sp.b).dot(u) > 0) v_.row(sp.b).setZero();
+    if (along(o.a, o.u) < 0) std::fill(v + 3 * o.a, v + 3 * o.a + 3, 0.0);
+    if (along(o.b, o.u) > 0) std::fill(v + 3 * o.b, v + 3 * o.b + 3, 0.0);
   }
 }
 
@@ -209,20 +231,20 @@ bool ClothState::step(double dt, bool sewing) {
     // works against the body there, and the springs relax once the seams are welded.
     if (!sewing) fixVelocities();
   }
-  x_ += dt * v_;
-  over_valid_ = false;  // the positions moved
+  // Position update and the blow-up check in one pass.
+  over_valid_ = false;  // the positions move
   const double limit2 = params_.runaway_speed * params_.runaway_speed;
   bool ok = true;
   {
     const double* v = v_.data();
-    const double* x = x_.data();
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double s2 = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
+    double* x = x_.data();
+    for (Eigen::Index i = 0; i < 3 * n; i += 3) {
+      x[i] += dt * v[i];
+      x[i + 1] += dt * v[i + 1];
+      x[i + 2] += dt * v[i + 2];
+      const double s2 = v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2];
       // NaN compares false: a non-finite velocity fails here, a non-finite position below.
-      if (!(s2 <= limit2) || !std::isfinite(x[3 * i] + x[3 * i + 1] + x[3 * i + 2])) {
-        ok = false;
-        break;
-      }
+      if (!(s2 <= limit2) || !std::isfinite(x[i] + x[i + 1] + x[i + 2])) ok = false;
     }
   }
   if (!ok) {
@@ -246,10 +268,10 @@ double ClothState::meanSeamGap() const {
   return g / static_cast<double>(seams_.size());
 }
 
-int ClothState::openSeams() const {
+void ClothState::countOpenSeams() {
   std::set<int> open;
   for (const SeamPair& s : seams_) open.insert(s.seam);
-  return static_cast<int>(open.size());
+  open_seams_ = static_cast<int>(open.size());
 }
 
 int ClothState::weldClosedSeams(double tolerance) {
@@ -286,6 +308,7 @@ int ClothState::weldClosedSeams(double tolerance) {
   std::vector<int> rep(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) rep[i] = find(i);
   rebuildAfterWeld(rep);
+  countOpenSeams();
   return count;
 }
 
@@ -343,6 +366,7 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
   m_ = mass;
   springs_ = springs;
   k_ = k;
+  packSprings();
   over_valid_ = false;
   F_ = F;
 }

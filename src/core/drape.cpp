@@ -16,6 +16,9 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 constexpr double kSettleWindow = 0.1;  // seconds of simulated time
 constexpr int kSettleWindowMin = 25;   // iterations
+// Settled also needs the largest strain to have changed by less than this over the window: one
+// over-stretched spring relaxing moves a few nodes, which the rms over all nodes does not see.
+constexpr double kSettleStrainChange = 0.01;
 
 std::string num(double v) {
   std::ostringstream o;
@@ -194,6 +197,7 @@ DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& par
   const int settleWindow = std::max(kSettleWindowMin, static_cast<int>(std::ceil(kSettleWindow / rep.dt)));
   MatrixX3d settleRef;
   int settleRefIteration = 0;
+  double settleRefStrain = 0;  // largest strain at settleRef
   std::string stop;
   while (true) {
     const bool sewing = cloth.openSeams() > 0;
@@ -210,12 +214,18 @@ DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& par
       if (settleRef.rows() != cloth.positions().rows()) {
         settleRef = cloth.positions();
         settleRefIteration = drapeIterations;
+        double strainMean = 0;
+        cloth.strain(settleRefStrain, strainMean);
       } else if (drapeIterations - settleRefIteration >= settleWindow) {
         const double span = (drapeIterations - settleRefIteration) * rep.dt;
         rep.net_speed = std::sqrt((cloth.positions() - settleRef).rowwise().squaredNorm().mean()) / span;
+        double strainMax = 0, strainMean = 0;
+        cloth.strain(strainMax, strainMean);
+        const bool strainSteady = std::abs(strainMax - settleRefStrain) < kSettleStrainChange;
         settleRef = cloth.positions();
         settleRefIteration = drapeIterations;
-        if (drapeIterations >= params.min_drape_iterations && rep.net_speed < params.settle_speed) {
+        settleRefStrain = strainMax;
+        if (drapeIterations >= params.min_drape_iterations && rep.net_speed < params.settle_speed && strainSteady) {
           settled = true;
           break;
         }

@@ -2,6 +2,7 @@
 // serialized pcl_msgs/PolygonMesh and sensor_msgs/PointCloud2 messages, binary PLY and STL
 // files. Everything is made here from small procedural shapes; nothing is copied from elsewhere.
 // Usage: make_seeds OUTPUT_DIR   (creates polygon_mesh/, point_cloud/, mesh_io/ below it)
+#include "../ros/cloud_builder.h"
 #include "virtual_tryon/core/mesh_io.h"
 #include "virtual_tryon/ros/conversions.h"
 
@@ -17,6 +18,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,50 +48,18 @@ vt::TriMesh tetrahedron() {
   return m;
 }
 
-struct Field {
-  const char* name;
-  std::uint32_t offset;
-  std::uint8_t type;
-};
+using Field = virtual_tryon_test::CloudField;
 
 // A cloud of the tetrahedron's corners laid out by `fields` (x, y, z and normal_* by name).
 sensor_msgs::PointCloud2 cloud(const std::vector<Field>& fields, std::uint32_t step, std::uint32_t width,
                                std::uint32_t height, std::uint32_t rowPad) {
   const vt::TriMesh t = tetrahedron();
-  sensor_msgs::PointCloud2 c;
-  c.width = width;
-  c.height = height;
-  c.point_step = step;
-  c.row_step = width * step + rowPad;
-  c.is_bigendian = false;
-  c.is_dense = true;
-  for (const Field& f : fields) {
-    PointField pf;
-    pf.name = f.name;
-    pf.offset = f.offset;
-    pf.datatype = f.type;
-    pf.count = 1;
-    c.fields.push_back(pf);
-  }
-  c.data.assign(static_cast<std::size_t>(c.row_step) * height, 0);
-  int i = 0;
-  for (std::uint32_t r = 0; r < height; ++r)
-    for (std::uint32_t col = 0; col < width; ++col, ++i) {
-      std::uint8_t* pt = c.data.data() + r * c.row_step + col * step;
-      for (const Field& f : fields) {
-        const std::string name = f.name;
-        const int k = name.back() - 'x';
-        double v = t.V(i % 4, k);
-        if (name.rfind("normal_", 0) == 0) v = k == 2 ? 1.0 : 0.0;
-        if (f.type == PointField::FLOAT64)
-          std::memcpy(pt + f.offset, &v, 8);
-        else {
-          const float fv = static_cast<float>(v);
-          std::memcpy(pt + f.offset, &fv, 4);
-        }
-      }
-    }
-  return c;
+  return virtual_tryon_test::buildCloud(fields, step, width, height, rowPad, 0,
+                                        [&](int i, const Field& f) -> std::optional<double> {
+                                          const int k = f.name.back() - 'x';
+                                          if (f.name.rfind("normal_", 0) == 0) return k == 2 ? 1.0 : 0.0;
+                                          return t.V(i % 4, k);
+                                        });
 }
 
 pcl_msgs::PolygonMesh meshMsg(const sensor_msgs::PointCloud2& c, const std::vector<std::vector<std::uint32_t>>& polys) {

@@ -1,3 +1,4 @@
+#include "cloud_builder.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,11 +21,7 @@ using sensor_msgs::PointField;
 
 namespace {
 
-struct Field {
-  std::string name;
-  std::uint32_t offset;
-  std::uint8_t datatype;
-};
+using Field = virtual_tryon_test::CloudField;
 
 // The points written into every cloud below; float32 fields hold the float-rounded values.
 const double kPoints[][3] = {
@@ -35,40 +33,12 @@ constexpr int kNumPoints = 4;
 sensor_msgs::PointCloud2 makeCloud(const std::vector<Field>& fields, std::uint32_t pointStep,
                                    std::uint32_t width = kNumPoints, std::uint32_t height = 1,
                                    std::uint32_t rowPadding = 0) {
-  sensor_msgs::PointCloud2 c;
-  c.width = width;
-  c.height = height;
-  c.point_step = pointStep;
-  c.row_step = width * pointStep + rowPadding;
-  c.is_bigendian = false;
-  c.is_dense = true;
-  for (const Field& f : fields) {
-    PointField pf;
-    pf.name = f.name;
-    pf.offset = f.offset;
-    pf.datatype = f.datatype;
-    pf.count = 1;
-    c.fields.push_back(pf);
-  }
-  c.data.assign(static_cast<std::size_t>(c.row_step) * height, 0xAB);
-  int i = 0;
-  for (std::uint32_t r = 0; r < height; ++r)
-    for (std::uint32_t col = 0; col < width; ++col, ++i) {
-      std::uint8_t* pt = c.data.data() + r * c.row_step + col * pointStep;
-      for (const Field& f : fields) {
-        int k = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
-        if (k < 0) continue;
-        const double v = kPoints[i % kNumPoints][k];
-        if (f.offset + (f.datatype == PointField::FLOAT64 ? 8u : 4u) > pointStep) continue;
-        if (f.datatype == PointField::FLOAT64) {
-          std::memcpy(pt + f.offset, &v, 8);
-        } else if (f.datatype == PointField::FLOAT32) {
-          const float fv = static_cast<float>(v);
-          std::memcpy(pt + f.offset, &fv, 4);
-        }
-      }
-    }
-  return c;
+  return virtual_tryon_test::buildCloud(fields, pointStep, width, height, rowPadding, 0xAB,
+                                        [](int i, const Field& f) -> std::optional<double> {
+                                          const int k = f.name == "x" ? 0 : f.name == "y" ? 1 : f.name == "z" ? 2 : -1;
+                                          if (k < 0) return std::nullopt;
+                                          return kPoints[i % kNumPoints][k];
+                                        });
 }
 
 double expected(int i, int k, bool isDouble) {

@@ -4,6 +4,7 @@
 // the message. Also pointCloudToPoints (normals) and toMsg's FLOAT64 fallback.
 #include "../malformed_meshes.h"
 #include "virtual_tryon/core/mesh.h"
+#include "cloud_builder.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,44 +26,19 @@ using sensor_msgs::PointField;
 
 namespace {
 
-struct Field {
-  std::string name;
-  std::uint32_t offset;
-  std::uint8_t datatype;
-};
+using Field = virtual_tryon_test::CloudField;
 
 // A cloud holding the rows of V (x, y, z) and optionally N (normal_x, ...) laid out by `fields`.
 sensor_msgs::PointCloud2 cloudOf(const vt::MatrixX3d& V, const std::vector<Field>& fields, std::uint32_t step,
                                  const vt::MatrixX3d* N = nullptr) {
-  sensor_msgs::PointCloud2 c;
-  c.height = 1;
-  c.width = static_cast<std::uint32_t>(V.rows());
-  c.point_step = step;
-  c.row_step = step * c.width;
+  sensor_msgs::PointCloud2 c = virtual_tryon_test::buildCloud(
+      fields, step, static_cast<std::uint32_t>(V.rows()), 1, 0, 0xCD, [&](int i, const Field& f) -> std::optional<double> {
+        const bool normal = f.name.rfind("normal_", 0) == 0;
+        const int k = f.name.back() - 'x';
+        if (k < 0 || k > 2 || (f.name.size() > 1 && !normal) || (normal && !N)) return std::nullopt;
+        return normal ? (*N)(i, k) : V(i, k);
+      });
   c.is_dense = false;
-  for (const Field& f : fields) {
-    PointField pf;
-    pf.name = f.name;
-    pf.offset = f.offset;
-    pf.datatype = f.datatype;
-    pf.count = 1;
-    c.fields.push_back(pf);
-  }
-  c.data.assign(c.row_step, 0xCD);
-  for (Eigen::Index i = 0; i < V.rows(); ++i)
-    for (const Field& f : fields) {
-      const bool normal = f.name.rfind("normal_", 0) == 0;
-      const int k = f.name.back() - 'x';
-      if (k < 0 || k > 2 || (f.name.size() > 1 && !normal) || (normal && !N)) continue;
-      const double v = normal ? (*N)(i, k) : V(i, k);
-      std::uint8_t* p = c.data.data() + i * step + f.offset;
-      if (f.datatype == PointField::FLOAT64) {
-        std::memcpy(p, &v, 8);
-      } else {
-        const float fv = static_cast<float>(v);
-        std::memcpy(p, &fv, 4);
-      }
-    }
   return c;
 }
 
