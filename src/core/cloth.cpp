@@ -88,8 +88,10 @@ void ClothState::packSprings() {
   }
 }
 
-void ClothState::computeForces() {
+void ClothState::computeForces(bool sewing) {
   // Raw loops over the row-major n x 3 buffers: this is the hot path of every iteration.
+  // While sewing, gravity is off (unless gravity_while_sewing) and the damping is the larger of
+  // the two rates.
   const Eigen::Index n = x_.rows();
   if (x4_.rows() != static_cast<std::size_t>(n)) {
     x4_.resize(static_cast<std::size_t>(n));
@@ -99,8 +101,11 @@ void ClothState::computeForces() {
   const double* v = v_.data();
   double* x4 = x4_.data();
   double* f4 = f4_.data();
-  const double gx = params_.gravity.x(), gy = params_.gravity.y(), gz = params_.gravity.z();
-  const double c = params_.damping_rate;
+  const bool gravityOn = !sewing || params_.gravity_while_sewing;
+  const double gx = gravityOn ? params_.gravity.x() : 0.0;
+  const double gy = gravityOn ? params_.gravity.y() : 0.0;
+  const double gz = gravityOn ? params_.gravity.z() : 0.0;
+  const double c = sewing ? std::max(params_.damping_rate, params_.sewing_damping_rate) : params_.damping_rate;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double m = m_[i];
     x4[4 * i + 0] = x[3 * i + 0];
@@ -113,12 +118,6 @@ void ClothState::computeForces() {
   // The velocity fix needs the over-stretched springs of these positions: the kernel notes them.
   over_index_.clear();
   addSpringForces(packed_, x4_, f4_, 1.0 + params_.stretch_threshold, params_.vectorized, over_index_);
-  double* f = f_.data();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    f[3 * i + 0] = f4[4 * i + 0];
-    f[3 * i + 1] = f4[4 * i + 1];
-    f[3 * i + 2] = f4[4 * i + 2];
-  }
   over_.clear();
   for (int s : over_index_) addStretched(springs_[s].a, springs_[s].b);
   over_valid_ = true;
@@ -187,13 +186,8 @@ bool ClothState::step(double dt, bool sewing) {
     v_prev_ = v_;
   }
   ++steps_;
-  computeForces();
-  if (sewing && !params_.gravity_while_sewing)
-    for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= m_[i] * params_.gravity.transpose();
+  computeForces(sewing);
   if (sewing) {
-    const double extra = params_.sewing_damping_rate - params_.damping_rate;
-    if (extra > 0)
-      for (Eigen::Index i = 0; i < x_.rows(); ++i) f_.row(i) -= (extra * m_[i]) * v_.row(i);
     // Only the lowest stage with an open seam pulls (PatternSeam::stage).
     int stage = std::numeric_limits<int>::max();
     for (const SeamPair& s : seams_) stage = std::min(stage, seam_stage_[s.seam]);
@@ -205,19 +199,23 @@ bool ClothState::step(double dt, bool sewing) {
       // against the cloth's resistance, never strong enough to fling a panel across the body.
       const double scale = len > 0 ? params_.seam_max_stretch / len : 0.0;
       const Eigen::RowVector3d f = (params_.k_seam * scale) * d;
-      f_.row(s.a) += f;
-      f_.row(s.b) -= f;
+      double* fa = f4_.row(static_cast<std::size_t>(s.a));
+      double* fb = f4_.row(static_cast<std::size_t>(s.b));
+      for (int k = 0; k < 3; ++k) {
+        fa[k] += f[k];
+        fb[k] -= f[k];
+      }
     }
   }
   const Eigen::Index n = x_.rows();
   {
     double* v = v_.data();
-    const double* f = f_.data();
+    const double* f = f4_.data();
     for (Eigen::Index i = 0; i < n; ++i) {
       const double s = dt / m_[i];
-      v[3 * i + 0] += s * f[3 * i + 0];
-      v[3 * i + 1] += s * f[3 * i + 1];
-      v[3 * i + 2] += s * f[3 * i + 2];
+      v[3 * i + 0] += s * f[4 * i + 0];
+      v[3 * i + 1] += s * f[4 * i + 1];
+      v[3 * i + 2] += s * f[4 * i + 2];
     }
   }
   fixVelocities();
@@ -372,7 +370,14 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
 }
 
 const MatrixX3d& ClothState::evaluateForces() {
-  computeForces();
+  computeForces(false);
+  const double* f4 = f4_.data();
+  double* f = f_.data();
+  for (Eigen::Index i = 0; i < f_.rows(); ++i) {
+    f[3 * i + 0] = f4[4 * i + 0];
+    f[3 * i + 1] = f4[4 * i + 1];
+    f[3 * i + 2] = f4[4 * i + 2];
+  }
   return f_;
 }
 

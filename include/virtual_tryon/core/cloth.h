@@ -109,7 +109,7 @@ class ClothState {
   double potentialEnergy() const;
 
  private:
-  void computeForces();
+  void computeForces(bool sewing);
   void rebuildAfterWeld(const std::vector<int>& rep);
 
   ClothParams params_;
@@ -121,7 +121,8 @@ class ClothState {
   std::vector<Spring> springs_;
   std::vector<double> k_;  // stiffness per spring
   SpringArrays packed_;    // springs_ and k_ as the force kernel reads them
-  PaddedRows x4_, f4_;     // positions and forces in the kernel's layout
+  PaddedRows x4_, f4_;     // positions and forces in the kernel's layout (step reads f4_; f_ is
+                           // filled for evaluateForces only)
   std::vector<int> over_index_;
   void packSprings();
   struct Stretched {
