@@ -288,8 +288,6 @@ DepthMaps::DepthMaps(const TriMesh& body, const CollisionParams& params) {
     back_n_[r.i] = ringNormal(r.i, r.kb, back_n_);
   }
   ring_ = ring.size();
-  span_.resize(front_.size());
-  for (std::size_t i = 0; i < front_.size(); ++i) span_[i] = {front_[i], back_[i]};
 
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

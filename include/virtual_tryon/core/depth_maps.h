@@ -24,7 +24,6 @@
 
 #include "virtual_tryon/core/mesh.h"
 
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -80,7 +79,7 @@ class DepthMaps {
     const std::size_t i =
         static_cast<std::size_t>(static_cast<int>(v)) * static_cast<std::size_t>(width_) +
         static_cast<std::size_t>(static_cast<int>(u));
-    const double f = span_[i][0], b = span_[i][1];
+    const double f = front_[i], b = back_[i];
     const double z = p.z();
     if (!(z <= f && z >= b)) return false;  // also false for empty (NaN) pixels
     const double df = f - z, db = z - b;
@@ -134,7 +133,6 @@ class DepthMaps {
   std::size_t covered_ = 0, ring_ = 0;
   Eigen::Vector3d lo_, hi_;
   std::vector<float> front_, back_;
-  std::vector<std::array<float, 2>> span_;  // (front, back) per pixel: collide() reads one cache line
   std::vector<Eigen::Vector3f> front_n_, back_n_;
 };
 
