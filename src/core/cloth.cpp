@@ -36,8 +36,6 @@ ClothState::ClothState(const ClothMesh& mesh, const ClothParams& params)
   v_ = MatrixX3d::Zero(n, 3);
   f_ = MatrixX3d::Zero(n, 3);
   m_.assign(static_cast<std::size_t>(n), mass_);
-  k_.resize(springs_.size());
-  for (std::size_t i = 0; i < springs_.size(); ++i) k_[i] = stiffnessOf(params, springs_[i].type);
   packSprings();
   int nSeams = static_cast<int>(mesh.seam_stage.size());
   for (const auto& s : seams_) nSeams = std::max(nSeams, s.seam + 1);
@@ -61,8 +59,8 @@ double ClothState::stableTimeStep() const {
   // K per node: the sum of the stiffnesses of the springs (and open seams) that meet there.
   std::vector<double> ksum(m_.size(), 0.0);
   for (std::size_t s = 0; s < springs_.size(); ++s) {
-    ksum[springs_[s].a] += k_[s];
-    ksum[springs_[s].b] += k_[s];
+    ksum[springs_[s].a] += packed_.k[s];
+    ksum[springs_[s].b] += packed_.k[s];
   }
   for (const SeamPair& sp : seams_) {
     ksum[sp.a] += params_.k_seam;
@@ -84,7 +82,7 @@ void ClothState::packSprings() {
     packed_.a[s] = springs_[s].a;
     packed_.b[s] = springs_[s].b;
     packed_.rest[s] = springs_[s].rest;
-    packed_.k[s] = k_[s];
+    packed_.k[s] = stiffnessOf(params_, springs_[s].type);
   }
 }
 
@@ -133,15 +131,7 @@ void ClothState::fixVelocities() {
   fixed_springs_ = 0;
   if (params_.velocity_fix_passes <= 0) return;
   // Over-stretched springs of the current positions (computeForces notes them).
-  if (!over_valid_) {
-    over_.clear();
-    const double limit = 1.0 + params_.stretch_threshold;
-    for (const Spring& sp : springs_) {
-      const double len = (x_.row(sp.b) - x_.row(sp.a)).norm();
-      if (len > 0 && len > limit * sp.rest) addStretched(sp.a, sp.b);
-    }
-    over_valid_ = true;
-  }
+  if (!over_valid_) computeForces(false);
   double* v = v_.data();
   auto along = [v](int node, const double* u) { return v[3 * node] * u[0] + v[3 * node + 1] * u[1] + v[3 * node + 2] * u[2]; };
   for (int pass = 0; pass < params_.velocity_fix_passes; ++pass) {
@@ -332,7 +322,6 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
   }
   auto remap = [&](int i) { return id[rep[i]]; };
   std::vector<Spring> springs;
-  std::vector<double> k;
   std::set<std::pair<int, int>> seen;
   for (std::size_t s = 0; s < springs_.size(); ++s) {
     Spring sp = springs_[s];
@@ -340,7 +329,6 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
     sp.b = remap(sp.b);
     if (sp.a == sp.b || !seen.insert({std::min(sp.a, sp.b), std::max(sp.a, sp.b)}).second) continue;
     springs.push_back(sp);
-    k.push_back(k_[s]);
   }
   for (SeamPair& s : seams_) {
     s.a = remap(s.a);
@@ -363,7 +351,6 @@ void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {
   f_ = MatrixX3d::Zero(m, 3);
   m_ = mass;
   springs_ = springs;
-  k_ = k;
   packSprings();
   over_valid_ = false;
   F_ = F;
@@ -385,7 +372,7 @@ double ClothState::potentialEnergy() const {
   double e = 0;
   for (std::size_t s = 0; s < springs_.size(); ++s) {
     const double l = (x_.row(springs_[s].b) - x_.row(springs_[s].a)).norm();
-    e += 0.5 * k_[s] * (l - springs_[s].rest) * (l - springs_[s].rest);
+    e += 0.5 * packed_.k[s] * (l - springs_[s].rest) * (l - springs_[s].rest);
   }
   for (Eigen::Index i = 0; i < x_.rows(); ++i) e -= m_[i] * params_.gravity.dot(x_.row(i).transpose());
   return e;

@@ -119,8 +119,7 @@ class ClothState {
   long steps_ = 0;
   std::vector<double> m_;
   std::vector<Spring> springs_;
-  std::vector<double> k_;  // stiffness per spring
-  SpringArrays packed_;    // springs_ and k_ as the force kernel reads them
+  SpringArrays packed_;    // springs_ as the force kernel reads them, with each spring's stiffness
   PaddedRows x4_, f4_;     // positions and forces in the kernel's layout (step reads f4_; f_ is
                            // filled for evaluateForces only)
   std::vector<int> over_index_;
