@@ -133,8 +133,8 @@ void warn(const std::string& w) { std::cerr << "warning: " << w << "\n"; }
 
 vt::MeshLimits meshLimits(const std::map<std::string, std::string>& opt) {
   vt::MeshLimits l;
-  l.max_vertices = static_cast<std::size_t>(integer(opt, "max-vertices", 2000000, 1, 1000000000));
-  l.max_faces = static_cast<std::size_t>(integer(opt, "max-faces", 4000000, 1, 1000000000));
+  l.max_vertices = static_cast<std::size_t>(integer(opt, "max-vertices", static_cast<int>(l.max_vertices), 1, 1000000000));
+  l.max_faces = static_cast<std::size_t>(integer(opt, "max-faces", static_cast<int>(l.max_faces), 1, 1000000000));
   return l;
 }
 

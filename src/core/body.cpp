@@ -43,7 +43,6 @@ const BodyBVH& Body::bvh() const {
     const auto t0 = std::chrono::steady_clock::now();
     auto b = std::make_unique<BodyBVH>();
     b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
-    b->object = std::make_unique<fcl::CollisionObjectd>(b->model, fcl::Transform3d::Identity());
     bvh_ = std::move(b);
     bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     bvh_built_ = true;

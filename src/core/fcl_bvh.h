@@ -23,7 +23,6 @@ using FclDistanceModel = fcl::BVHModel<fcl::OBBRSSd>;
 class BodyBVH {
  public:
   std::shared_ptr<FclModel> model;
-  std::unique_ptr<fcl::CollisionObjectd> object;
 
   // The OBBRSS tree for distance queries, built on first use.
   const fcl::CollisionObjectd& distanceObject(const MatrixX3d& V, const MatrixX3i& F) const;

@@ -447,9 +447,7 @@ class PlyData {
         v = static_cast<double>(i);
         return true;
       }
-      if (*b == '+') ++b;
-      const auto r = std::from_chars(b, p_, v);
-      return r.ec == std::errc() && r.ptr == p_;
+      return parseDouble(b, p_, v);
     }
     const std::size_t n = plySize(t);
     if (remaining() < n) return false;
@@ -471,7 +469,6 @@ class PlyData {
   }
 
  private:
-  static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
   const char* p_;
   const char* end_;
   bool ascii_, swap_;

@@ -53,7 +53,6 @@ struct PanelGrid {
   }
 };
 
-// Grid nodes, links, quads of one panel (indices local to the grid).
 // Grid size of a panel at spacing h (nodes along u and v, before clipping); may be huge or inf.
 void gridSize(const MatrixX2d& P, double h, double& cx, double& cy) {
   const Eigen::Vector2d lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
@@ -62,6 +61,8 @@ void gridSize(const MatrixX2d& P, double h, double& cx, double& cy) {
   cy = std::floor(size.y() / h + 1e-9) + 1;
 }
 
+// Grid nodes, links, quads of one panel (indices local to the grid). meshPattern has checked the
+// grid's size (gridSize) before any grid is built.
 bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads,
                std::string& error) {
   const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(p)].outline;
@@ -69,15 +70,8 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
   g.h = h;
   const Eigen::Vector2d lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
   const Eigen::Vector2d size = hi - lo;
-  double cx = 0, cy = 0;
-  gridSize(P, h, cx, cy);
-  if (!(cx * cy <= kMaxGridNodes)) {
-    error = panelLabel(pattern, p) + ": spacing " + num(h) + " m gives a " + num(cx) + " x " + num(cy) +
-            " grid, more than " + std::to_string(static_cast<long long>(kMaxGridNodes)) + " nodes";
-    return false;
-  }
-  g.nx = static_cast<int>(cx);
-  g.ny = static_cast<int>(cy);
+  g.nx = static_cast<int>(std::floor(size.x() / h + 1e-9)) + 1;
+  g.ny = static_cast<int>(std::floor(size.y() / h + 1e-9)) + 1;
   g.x0 = lo.x() + 0.5 * (size.x() - (g.nx - 1) * h);
   g.y0 = lo.y() + 0.5 * (size.y() - (g.ny - 1) * h);
   g.convex = polygon2d::isConvex(P);

@@ -18,16 +18,12 @@ PushOutReport pushOutBaseline(const Body& body, TriMesh& garment, const PushOutP
   std::vector<std::pair<int, Eigen::Vector3d>> moves;
   for (Eigen::Index v = 0; v < garment.V.rows(); ++v) {
     const Eigen::Vector3d x = garment.V.row(v).transpose();
-    if (rep.body_closed) {
-      if (!pointInsideBody(body, x)) continue;
-      const ClosestPoint cp = closestPointOnBody(body, x);
-      if (cp.face < 0) continue;
-      moves.emplace_back(static_cast<int>(v), cp.point + rep.margin * N.row(cp.face).transpose());
-    } else {
-      const ClosestPoint cp = closestPointOnBody(body, x);
-      if (cp.face < 0 || N.row(cp.face).dot((x - cp.point).transpose()) >= 0) continue;
-      moves.emplace_back(static_cast<int>(v), cp.point + rep.margin * N.row(cp.face).transpose());
-    }
+    // Inside: by parity on a closed body, else behind the nearest face.
+    if (rep.body_closed && !pointInsideBody(body, x)) continue;
+    const ClosestPoint cp = closestPointOnBody(body, x);
+    if (cp.face < 0) continue;
+    if (!rep.body_closed && N.row(cp.face).dot((x - cp.point).transpose()) >= 0) continue;
+    moves.emplace_back(static_cast<int>(v), cp.point + rep.margin * N.row(cp.face).transpose());
   }
   rep.seconds_detection = std::chrono::duration<double>(Clock::now() - t0).count();
   double sum = 0;
