@@ -26,7 +26,7 @@ BodyCheck analyse(const TriMesh& mesh, const BodyCheckParams& params, std::vecto
   BodyCheck r;
   r.vertices = static_cast<std::size_t>(mesh.V.rows());
   r.faces = static_cast<std::size_t>(mesh.F.rows());
-  const MeshValidation v = validate(mesh, "body");
+  const MeshValidation v = validate(mesh, "body", params.limits);
   if (!v.ok) {
     r.ok = false;
     r.message = v.message;

@@ -39,8 +39,10 @@ std::uint64_t scanHash(const sensor_msgs::PointCloud2& c) {
 }  // namespace
 
 bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
-                            std::vector<std::string>& warnings, std::string& error) {
-  const BodyCheck check = orientBody(mesh);
+                            std::vector<std::string>& warnings, std::string& error) const {
+  BodyCheckParams checkParams;
+  checkParams.limits = settings_.limits;
+  const BodyCheck check = orientBody(mesh, checkParams);
   report.vertices = static_cast<std::uint32_t>(mesh.numVertices());
   report.faces = static_cast<std::uint32_t>(mesh.numFaces());
   report.closed = check.closed;
@@ -56,7 +58,7 @@ bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
     return false;
   }
   // What a body needs beyond a usable mesh (open, non-manifold, pieces, units), after flipping.
-  const MeshValidation v = validateBody(mesh);
+  const MeshValidation v = validateBody(mesh, settings_.limits);
   if (!v.ok) {
     error = v.message;
     return false;

@@ -76,10 +76,10 @@ int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
 // several pieces, a size that suggests millimetres), the garment's validation warnings and, with a
 // garment, how the two are placed.
 std::string inputWarnings(const std::vector<std::string>& bodyWarnings, const TriMesh& body,
-                          const TriMesh* garment) {
+                          const TriMesh* garment, const MeshLimits& limits) {
   std::vector<std::string> w = bodyWarnings;
   if (garment) {
-    for (const std::string& g : validate(*garment, "garment").warnings) w.push_back(g);
+    for (const std::string& g : validate(*garment, "garment", limits).warnings) w.push_back(g);
     for (const std::string& g : placementWarnings(body, *garment)) w.push_back(g);
   }
   std::string s;
@@ -311,7 +311,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
       !transformInto(garmentFrame, body.frame, garmentHeader.stamp, garment, error))
     return false;
 
-  const std::string warnings = inputWarnings(body.warnings, body.body->mesh(), &garment);
+  const std::string warnings = inputWarnings(body.warnings, body.body->mesh(), &garment, settings_.limits);
   ResolverParams params = settings_.resolver;
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);

@@ -208,3 +208,15 @@ TEST(BodyCheck, UnusableMeshesAreReported) {
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(contains(r.message, "open_flip_ratio")) << r.message;
 }
+
+TEST(BodyCheck, TheCallersSizeLimitsApply) {
+  // The node passes its ~max_vertices / ~max_faces: a body the defaults allow is refused by
+  // smaller limits.
+  TriMesh m = makeSphere(0.3, Eigen::Vector3d(0, 1, 0), 2);
+  BodyCheckParams p;
+  EXPECT_TRUE(orientBody(m, p).ok);
+  p.limits.max_vertices = static_cast<std::size_t>(m.V.rows()) - 1;
+  const BodyCheck small = orientBody(m, p);
+  EXPECT_FALSE(small.ok);
+  EXPECT_NE(small.message.find("limit"), std::string::npos) << small.message;
+}

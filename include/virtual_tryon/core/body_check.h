@@ -26,6 +26,7 @@ struct BodyCheckParams {
   // For pieces that are not closed and consistently wound: the signed/absolute volume ratio
   // beyond which the orientation counts as known (see above). In (0, 1].
   double open_flip_ratio = 0.5;
+  MeshLimits limits;  // the size a body may have (validate())
 };
 
 enum class BodyOrientation {

@@ -110,8 +110,9 @@ class TryonNode {
   void installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
   // Checks (and flips if inverted) `mesh`, fills `report` and `warnings` (open, pieces, units,
   // flipped ...); false with `error` when unusable.
-  static bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
-                          std::vector<std::string>& warnings, std::string& error);
+  // The node's size limits apply.
+  bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::vector<std::string>& warnings,
+                   std::string& error) const;
   void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report,
                    std::vector<std::string> warnings);
 
