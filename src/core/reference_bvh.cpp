@@ -88,10 +88,13 @@ double ReferenceTree::distance(const TriMesh& mesh, const Eigen::Vector3d& p) co
     const Eigen::Vector3d q = p.cwiseMax(n.lo).cwiseMin(n.hi);
     return (p - q).norm();
   };
-  std::vector<std::pair<double, int>> stack{{boxDistance(nodes_[0]), 0}};
-  while (!stack.empty()) {
-    const auto [bd, id] = stack.back();
-    stack.pop_back();
+  // Median splits: the depth is about log2(faces / 4), and the stack holds one entry per level
+  // plus one (as in overlapping and alongSegment).
+  std::pair<double, int> stack[128];
+  int top = 0;
+  stack[top++] = {boxDistance(nodes_[0]), 0};
+  while (top > 0) {
+    const auto [bd, id] = stack[--top];
     if (bd > best) continue;
     const Node& n = nodes_[id];
     if (n.left < 0) {
@@ -104,11 +107,11 @@ double ReferenceTree::distance(const TriMesh& mesh, const Eigen::Vector3d& p) co
     const double dl = boxDistance(nodes_[n.left]), dr = boxDistance(nodes_[n.right]);
     // Nearer child last, so it is visited first.
     if (dl < dr) {
-      stack.emplace_back(dr, n.right);
-      stack.emplace_back(dl, n.left);
+      stack[top++] = {dr, n.right};
+      stack[top++] = {dl, n.left};
     } else {
-      stack.emplace_back(dl, n.left);
-      stack.emplace_back(dr, n.right);
+      stack[top++] = {dl, n.left};
+      stack[top++] = {dr, n.right};
     }
   }
   return best;
@@ -123,10 +126,8 @@ void ReferenceReferee::inside(const TriMesh& garment, std::vector<char>& inside,
   inside.assign(static_cast<std::size_t>(garment.V.rows()), 0);
   if (depth) depth->assign(inside.size(), std::numeric_limits<double>::quiet_NaN());
   if (body_.F.rows() == 0) return;
-  const double L = 3.0 * (hi_ - lo_).norm() + 1.0;
-  const Eigen::Vector3d dirs[3] = {Eigen::Vector3d(0.4367, 0.8021, 0.4073).normalized(),
-                                   Eigen::Vector3d(-0.8812, 0.1732, -0.4397).normalized(),
-                                   Eigen::Vector3d(0.2113, -0.5557, 0.8041).normalized()};
+  const double L = reference_predicates::insideRayLength(lo_, hi_);
+  const auto& dirs = reference_predicates::kInsideRayDirections;
   for (Eigen::Index v = 0; v < garment.V.rows(); ++v) {
     const Eigen::Vector3d p = garment.V.row(v).transpose();
     if ((p.array() < lo_.array()).any() || (p.array() > hi_.array()).any()) continue;

@@ -63,10 +63,8 @@ ReferenceCounts referenceCounts(const TriMesh& body, const TriMesh& garment, boo
   if (!countInside) return r;
   Eigen::Vector3d lo, hi;
   boundingBox(body, lo, hi);
-  const double L = 3.0 * (hi - lo).norm() + 1.0;
-  const Eigen::Vector3d dirs[3] = {Eigen::Vector3d(0.4367, 0.8021, 0.4073).normalized(),
-                                   Eigen::Vector3d(-0.8812, 0.1732, -0.4397).normalized(),
-                                   Eigen::Vector3d(0.2113, -0.5557, 0.8041).normalized()};
+  const double L = reference_predicates::insideRayLength(lo, hi);
+  const auto& dirs = reference_predicates::kInsideRayDirections;
   for (Eigen::Index v = 0; v < garment.V.rows(); ++v) {
     const Eigen::Vector3d p = garment.V.row(v).transpose();
     if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;

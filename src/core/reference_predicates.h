@@ -51,5 +51,15 @@ inline double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vecto
   return std::min({seg(a, b), seg(b, c), seg(c, a)});
 }
 
+// The inside test: a point in the body's bounding box [lo, hi] is inside when at least two of
+// three segments from it, along these directions (off every axis and every simple diagonal) and
+// of this length (well past the box), cross the body an odd number of times.
+inline const Eigen::Vector3d kInsideRayDirections[3] = {Eigen::Vector3d(0.4367, 0.8021, 0.4073).normalized(),
+                                                        Eigen::Vector3d(-0.8812, 0.1732, -0.4397).normalized(),
+                                                        Eigen::Vector3d(0.2113, -0.5557, 0.8041).normalized()};
+inline double insideRayLength(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return 3.0 * (hi - lo).norm() + 1.0;
+}
+
 }  // namespace reference_predicates
 }  // namespace virtual_tryon
