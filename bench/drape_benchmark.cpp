@@ -5,11 +5,12 @@
 //   PROCEDURAL_PATTERN_DIR default config/patterns/procedural.
 // Prints Markdown tables: the procedural body always, body_hm08 when the data is there. Image-space
 // figures are the median of 5 runs, object space one run.
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <algorithm>
 #include <cstdio>

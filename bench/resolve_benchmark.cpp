@@ -1,10 +1,10 @@
 // Resolver benchmark on the shared MakeHuman meshes: body_hm08 with each garment.
 // Usage: resolve_benchmark [DATA_DIR] [RUNS]   (DATA_DIR default: ../shared/data, or $VT_DATA)
 // Prints one Markdown table; skips (exit 0) when the data is absent.
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <algorithm>
 #include <chrono>

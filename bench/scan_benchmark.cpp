@@ -5,13 +5,13 @@
 //   defaults: the procedural body, 200000 points, noise 0.001 m, voxel 0.005 m, depth 8, 3 runs.
 // Also prints the distance of the result's vertices to the scanned surface (mean / 95% / max), and
 // the process CPU time next to the wall-clock stages (the two differ on a shared machine).
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/body_check.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/point_queries.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/scan_meshing.h"
-#include "virtual_tryon/core/synthetic_scan.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/geometry/point_queries.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/core/body/scan_meshing.h"
+#include "virtual_tryon/core/scenes/synthetic_scan.h"
 
 #include <algorithm>
 #include <ctime>

@@ -36,7 +36,7 @@ HM08 = dict(
            (0.36, 0.747, 0.414), (0.38, 0.789, 0.447), (0.4, 0.807, 0.462), (0.42, 0.824, 0.488)],
 )
 
-# The project's procedural body (include/virtual_tryon/core/procedural_body.h, default
+# The project's procedural body (include/virtual_tryon/core/scenes/procedural_body.h, default
 # parameters: 1.70 m, feet at y = 0), from proceduralBodyLandmarks(); test_procedural_body checks
 # that these numbers still match the body.
 PROCEDURAL = dict(

@@ -4,8 +4,9 @@
 //   ~garment_pattern virtual_tryon/GarmentPattern  a pattern from config/patterns/procedural/
 // Usage: make_demo_bag OUT.bag PATTERN.yaml [--node NAME]   (NAME: /tryon_node)
 // Deterministic: the same build writes the same messages.
-#include "virtual_tryon/core/demo_scene.h"
-#include "virtual_tryon/core/pattern.h"
+#include "virtual_tryon/core/scenes/demo_scene.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
 

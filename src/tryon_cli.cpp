@@ -1,13 +1,14 @@
 // `tryon`: the core without ROS, for batch use. See `tryon --help`.
 // Exit codes: 0 converged / clean, 3 not converged / not clean, 2 bad input or usage.
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
-#include "virtual_tryon/core/report.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
+#include "virtual_tryon/core/io/report.h"
 
 #include <sys/stat.h>
 

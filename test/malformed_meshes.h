@@ -4,8 +4,8 @@
 // suites themselves.
 #pragma once
 
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <limits>
 #include <string>

@@ -1,6 +1,6 @@
 #include "common.h"
 
-#include "virtual_tryon/core/procedural_body.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
 
 #include <algorithm>
 #include <cstdarg>

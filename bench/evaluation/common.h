@@ -2,7 +2,7 @@
 // numbers that go to summary.json, and the procedural scenes.
 #pragma once
 
-#include "virtual_tryon/core/mesh.h"
+#include "virtual_tryon/core/geometry/mesh.h"
 
 #include <chrono>
 #include <cmath>

@@ -3,11 +3,12 @@
 // it (before the resolver pass).
 #include "common.h"
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <algorithm>
 #include <memory>

@@ -3,11 +3,11 @@
 // stop it long before the watchdog.
 #include "common.h"
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <poll.h>
 #include <signal.h>

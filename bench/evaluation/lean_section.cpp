@@ -3,14 +3,15 @@
 // against their number, for several garment and body sizes.
 #include "common.h"
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/intersections.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/point_queries.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/resolve/intersections.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/geometry/point_queries.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <algorithm>
 

@@ -3,13 +3,13 @@
 // resolver's own detector.
 #include "common.h"
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/point_queries.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/push_out_baseline.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/geometry/point_queries.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/push_out_baseline.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <algorithm>
 

@@ -3,13 +3,13 @@
 // nearly parallel and duplicate stencils, and on the zones of the section 1 scenes.
 #include "common.h"
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/cloth.h"
-#include "virtual_tryon/core/impact_zones.h"
-#include "virtual_tryon/core/intersections.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/stencils.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/cloth.h"
+#include "virtual_tryon/core/resolve/impact_zones.h"
+#include "virtual_tryon/core/resolve/intersections.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/resolve/stencils.h"
 
 #include <algorithm>
 #include <random>

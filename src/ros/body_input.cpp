@@ -2,8 +2,8 @@
 // PCL). The callbacks only queue; the worker converts, checks (closed, orientation, degenerate
 // faces), flips an inverted body, and installs the body. An unchanged body or scan costs a
 // comparison. The rest of the node is in tryon_node.cpp.
-#include "virtual_tryon/core/body_check.h"
-#include "virtual_tryon/core/scan_meshing.h"
+#include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/body/scan_meshing.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/tryon_node.h"
 

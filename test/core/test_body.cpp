@@ -1,6 +1,6 @@
 // Body: derived data is built lazily, once, and only what is asked for.
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <gtest/gtest.h>
 

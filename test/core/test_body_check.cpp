@@ -1,6 +1,6 @@
-#include "virtual_tryon/core/body_check.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <gtest/gtest.h>
 

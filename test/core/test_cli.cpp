@@ -1,8 +1,9 @@
 // The `tryon` command end to end: exit codes, JSON on stdout, vertex order of the output.
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The mass-spring cloth: forces against finite differences of the energy, the eq. 4 bound, the
 // velocity fix, welding, and blow-up detection.
-#include "virtual_tryon/core/cloth.h"
+#include "virtual_tryon/core/drape/cloth.h"
 
 #include <gtest/gtest.h>
 

@@ -20,7 +20,7 @@ bool isRosInclude(const std::string& line) {
 TEST(CoreIsRosFree, NoCoreFileIncludesARosHeader) {
   const fs::path root = VIRTUAL_TRYON_SOURCE_DIR;
   int files = 0;
-  for (const char* dir : {"include/virtual_tryon/core", "src/core"}) {
+  for (const char* dir : {"include/virtual_tryon/core", "src/core", "include/virtual_tryon/testing", "src/testing"}) {
     ASSERT_TRUE(fs::is_directory(root / dir)) << (root / dir);
     for (const auto& entry : fs::recursive_directory_iterator(root / dir)) {
       if (!entry.is_regular_file()) continue;

@@ -1,8 +1,8 @@
 // Tests of the image-space collision maps (Vassilev et al. 2001, sec. 5-6) on real geometry: an
 // icosphere (procedural.h), flat triangulated squares, a box.
-#include "virtual_tryon/core/depth_maps.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/drape/depth_maps.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <gtest/gtest.h>
 

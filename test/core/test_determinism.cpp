@@ -1,11 +1,12 @@
 // The same input gives bit-identical output: run after run, and when two runs share the process
 // on two threads (as the node's spinner threads do), so that a bag replay is a regression test.
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/procedural_body.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
 
 #include <gtest/gtest.h>
 

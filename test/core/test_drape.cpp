@@ -1,8 +1,9 @@
 // The drape end to end on the project's procedural body, checked by the independent referee.
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Degenerate-case sweeps for the segment-triangle predicate (ipc-toolkit style).
-#include "virtual_tryon/core/edge_face_crossing.h"
+#include "virtual_tryon/core/geometry/edge_face_crossing.h"
 
 #include <gtest/gtest.h>
 

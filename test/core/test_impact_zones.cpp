@@ -1,6 +1,6 @@
 // Stencils, impact zones and the minimum-displacement solve against closed-form answers.
-#include "virtual_tryon/core/impact_zones.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/resolve/impact_zones.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <gtest/gtest.h>
 

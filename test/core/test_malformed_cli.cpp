@@ -4,9 +4,9 @@
 // service suites come from test/malformed_meshes.h; file syntax, patterns and drape parameters
 // are the CLI's own.
 #include "../malformed_meshes.h"
-#include "virtual_tryon/core/mesh_io.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 
 #include <gtest/gtest.h>
 

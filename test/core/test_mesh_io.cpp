@@ -1,4 +1,4 @@
-#include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 

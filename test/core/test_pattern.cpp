@@ -1,5 +1,6 @@
 // Garment patterns: placement, validation, normalisation, YAML, meshing into grids of mass points.
-#include "virtual_tryon/core/pattern.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
 
 #include <gtest/gtest.h>
 

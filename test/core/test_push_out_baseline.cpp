@@ -1,8 +1,8 @@
 // The vertex push-out baseline: inside vertices go to the surface plus the margin; it tests no
 // edge, so crossings may remain (which is what the evaluation shows).
-#include "virtual_tryon/core/push_out_baseline.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/testing/push_out_baseline.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The accelerated referee (reference_bvh.h) must count exactly what the brute-force referee
 // (reference_check.h) counts: same predicates, candidates from its own trees.
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_bvh.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_bvh.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 

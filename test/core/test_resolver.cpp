@@ -1,10 +1,10 @@
 // The resolver on procedural scenes; every "zero crossings" is checked by the independent
 // brute-force referee (reference_check.h), not by the resolver's own detector.
-#include "virtual_tryon/core/intersections.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
-#include "virtual_tryon/core/stencils.h"
+#include "virtual_tryon/core/resolve/intersections.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
+#include "virtual_tryon/core/resolve/stencils.h"
 
 #include <gtest/gtest.h>
 

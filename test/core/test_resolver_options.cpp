@@ -1,10 +1,10 @@
 // Resolver options used by the evaluation: the per-iteration trace and its observer, the
 // per-stencil baseline solver, the time budget and the best state, the inside-out body; and the
 // zone conditioning report.
-#include "virtual_tryon/core/impact_zones.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_bvh.h"
+#include "virtual_tryon/core/resolve/impact_zones.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-#include "virtual_tryon/core/body_check.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/procedural_body.h"
-#include "virtual_tryon/core/scan_meshing.h"
-#include "virtual_tryon/core/synthetic_scan.h"
+#include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/core/body/scan_meshing.h"
+#include "virtual_tryon/core/scenes/synthetic_scan.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // header / size checks, then PCL / VTK). The first byte picks the format ('o' OBJ, 'p' PLY,
 // 's' STL, anything else by its value mod 3); the rest is the file, written to a temporary file
 // because the readers take paths.
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/io/mesh_io.h"
 
 #include <pcl/console/print.h>
 #include <vtkObject.h>

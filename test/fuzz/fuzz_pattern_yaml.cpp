@@ -1,7 +1,8 @@
 // libFuzzer target: the YAML pattern reader (parsePatternYaml, which runs validatePattern). A
 // pattern that reads must write (patternToYaml) and read back to the same pattern, and is then
 // meshed at a spacing of 1/12 of its largest panel (meshPattern).
-#include "virtual_tryon/core/pattern.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -3,7 +3,7 @@
 // files. Everything is made here from small procedural shapes; nothing is copied from elsewhere.
 // Usage: make_seeds OUTPUT_DIR   (creates polygon_mesh/, point_cloud/, mesh_io/ below it)
 #include "../ros/cloud_builder.h"
-#include "virtual_tryon/core/mesh_io.h"
+#include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <pcl_msgs/PolygonMesh.h>

@@ -4,8 +4,8 @@
 // the pattern, and publish both fits, latched, with zero crossings by a brute-force count, plus
 // the markers.
 #include "marker_wait.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <gtest/gtest.h>

@@ -3,10 +3,10 @@
 // counter (reference_check.h); the latched markers; a dt above the stability bound; the depth map
 // cache; bad patterns; pattern frames through tf. Tests run in the order written: the first one
 // needs a node that has not received a body on its topic.
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 #include <virtual_tryon/Drape.h>
 #include "virtual_tryon/ros/pattern_conversions.h"

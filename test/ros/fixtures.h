@@ -1,8 +1,8 @@
 // Shared by the rostests: small scenes the project makes, as messages.
 #pragma once
 
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/procedural.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
 

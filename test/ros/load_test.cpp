@@ -6,7 +6,7 @@
 // throughput, latency and memory. Private parameters: ~duration (s, default 5), ~clients
 // (default 3), ~max_rss_growth_mb (default 64).
 #include "fixtures.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 #include <pcl_msgs/PolygonMesh.h>

@@ -5,10 +5,10 @@
 // independent referee). Nothing is published on the node's topics, so an empty mesh in a request
 // can only mean "none received".
 #include "../malformed_meshes.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
 

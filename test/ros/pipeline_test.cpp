@@ -2,7 +2,7 @@
 // (feedback, result, cancel), two service clients at once while bodies stream in on ~body_mesh,
 // and an unchanged body that costs nothing. Results are judged by the core's brute-force counter.
 #include "fixtures.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <actionlib/client/simple_action_client.h>
 #include <gtest/gtest.h>

@@ -2,9 +2,9 @@
 // judged by the core's independent brute-force counter (reference_check.h), the latched markers,
 // bad input, the topic fallback and tf frames. Tests run in the order written: the first one needs
 // a node that has not received anything on its topics yet.
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/procedural.h"
-#include "virtual_tryon/core/reference_check.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include "fixtures.h"

@@ -1,8 +1,8 @@
 // config/params.yaml documents the drape defaults: its drape/ values must be the core's defaults
 // (DrapeParams, ClothParams, CollisionParams), so that the node and the `tryon` command behave
 // alike unless someone changes a parameter on purpose.
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/scan_meshing.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/body/scan_meshing.h"
 #include "virtual_tryon/ros/report_conversions.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // (grid_map style): the only place where pcl_msgs and visualization_msgs meet the core.
 #pragma once
 
-#include "virtual_tryon/core/mesh.h"
+#include "virtual_tryon/core/geometry/mesh.h"
 
 #include <pcl_msgs/PolygonMesh.h>
 #include <sensor_msgs/PointCloud2.h>

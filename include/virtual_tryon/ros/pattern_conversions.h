@@ -2,7 +2,7 @@
 // and the core's Pattern (PatternPanel, PatternSeam). Plain functions, no state.
 #pragma once
 
-#include "virtual_tryon/core/pattern.h"
+#include "virtual_tryon/core/drape/pattern.h"
 #include <virtual_tryon/GarmentPattern.h>
 
 #include <geometry_msgs/Pose.h>

@@ -2,9 +2,9 @@
 // functions, no state.
 #pragma once
 
-#include "virtual_tryon/core/collider.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/penetration_resolver.h"
+#include "virtual_tryon/core/drape/collider.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include <virtual_tryon/DrapeReport.h>
 
 #include <virtual_tryon/PenetrationReport.h>

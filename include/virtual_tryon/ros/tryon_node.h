@@ -17,12 +17,12 @@
 // maps are built lazily, thread-safely, once, inside the Body.
 #pragma once
 
-#include "virtual_tryon/core/body.h"
-#include "virtual_tryon/core/drape.h"
-#include "virtual_tryon/core/mesh.h"
-#include "virtual_tryon/core/pattern.h"
-#include "virtual_tryon/core/penetration_resolver.h"
-#include "virtual_tryon/core/scan_meshing.h"
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/body/scan_meshing.h"
 #include "virtual_tryon/ros/job_queue.h"
 #include <virtual_tryon/BodyReport.h>
 #include <virtual_tryon/Drape.h>

@@ -1,0 +1,80 @@
+// A rigid, outward-oriented body and the data derived from it. Derived data is built lazily, once,
+// on first use, and is safe to share between threads (std::call_once): a body that is reused for
+// many garments pays for its BVH once.
+#pragma once
+
+#include "virtual_tryon/core/drape/depth_maps.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+namespace virtual_tryon {
+
+class BodyBVH;  // FCL BVH over the body's faces (defined in intersections.cpp, FCL stays there)
+
+class Body {
+ public:
+  explicit Body(TriMesh mesh);
+  ~Body();
+  Body(const Body&) = delete;
+  Body& operator=(const Body&) = delete;
+
+  const TriMesh& mesh() const { return mesh_; }
+  const MatrixX3d& faceNormals() const { return face_normals_; }  // #F by 3, unit, outward
+  // Edge adjacency, built on the first call to any of these three (thread-safe), then reused: a
+  // drape that only needs the depth maps never builds it.
+  const MatrixX2i& edges() const { buildAdjacency(); return edges_; }             // #E by 2 unique edges
+  const MatrixX3i& faceEdges() const { buildAdjacency(); return face_edges_; }    // #F by 3 into edges()
+  // #E by 3: unit mean of the normals of the faces incident to each edge (outward direction at a
+  // ridge or a valley).
+  const MatrixX3d& edgeNormals() const { buildAdjacency(); return edge_normals_; }
+  bool adjacencyBuilt() const { return adjacency_built_; }
+  const EdgeTopology& topology() const { return topology_; }
+  bool closed() const { return topology_.closed(); }
+  double meanEdgeLength() const { return mean_edge_length_; }
+  // Signed enclosed volume (mesh.h signedVolume), m^3: negative for a closed body wound inside out.
+  double signedVolume() const { return signed_volume_; }
+  const Eigen::Vector3d& boxMin() const { return box_min_; }  // axis-aligned bounds
+  const Eigen::Vector3d& boxMax() const { return box_max_; }
+
+  // The FCL BVH; built on the first call (thread-safe), then reused.
+  const BodyBVH& bvh() const;
+  bool bvhBuilt() const { return bvh_built_; }
+  double bvhBuildSeconds() const { return bvh_seconds_; }
+
+  // Front/back depth and normal maps for image-space collisions, rendered on the first call for
+  // these (tol, map_size) and cached: the same parameters again cost nothing; other parameters
+  // render new maps (the last set is kept). Thread-safe.
+  std::shared_ptr<const DepthMaps> depthMaps(const CollisionParams& params) const;
+  int depthMapRenders() const;  // how many times maps were rendered for this body
+
+ private:
+  void buildAdjacency() const;
+
+  TriMesh mesh_;
+  MatrixX3d face_normals_;
+  mutable std::once_flag adjacency_once_;
+  mutable std::atomic<bool> adjacency_built_{false};
+  mutable MatrixX2i edges_;
+  mutable MatrixX3i face_edges_;
+  mutable MatrixX3d edge_normals_;
+  EdgeTopology topology_;
+  double mean_edge_length_ = 0;
+  double signed_volume_ = 0;
+  Eigen::Vector3d box_min_{0, 0, 0}, box_max_{0, 0, 0};
+
+  mutable std::once_flag bvh_once_;
+  mutable std::unique_ptr<BodyBVH> bvh_;
+  mutable std::atomic<bool> bvh_built_{false};
+  mutable double bvh_seconds_ = 0;
+
+  mutable std::mutex maps_mutex_;
+  mutable std::shared_ptr<const DepthMaps> maps_;
+  mutable double maps_tol_ = -1;
+  mutable int maps_size_ = -1;
+  mutable int maps_renders_ = 0;
+};
+
+}  // namespace virtual_tryon

@@ -1,0 +1,98 @@
+// Vassilev, Spanlang, Chrysanthou (2001), "Fast cloth animation on walking avatars" / dressing
+// virtual humans: the garment's patterns are meshed into grids, placed round the body, sewn by
+// seam forces, welded when the seams close, draped until the cloth settles, with image-space (or
+// object-space) collisions; then the penetration resolver (Sun et al. 2016) cleans what the
+// collisions let through.
+#pragma once
+
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/cloth.h"
+#include "virtual_tryon/core/drape/collider.h"
+#include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace virtual_tryon {
+
+struct DrapeParams {
+  double spacing = 0.02;  // grid spacing of the panels, metres (sets the vertex count)
+  ClothParams cloth;
+  CollisionParams collision;
+  CollisionMode mode = CollisionMode::ImageSpace;
+  bool quad_midpoints = true;  // also test each quad's midpoint (sec. 6)
+  // Beyond the paper: a node found deeper than tol also moves out by this fraction of the excess
+  // depth per step (0: the paper's velocity-only response).
+  double push_out = 0.0;
+  double dt = 0;               // seconds; 0: dt_safety * the eq. 4 bound
+  double dt_safety = 0.9;
+  bool clamp_dt = false;       // a dt above the bound: refuse (false) or clamp with a warning (true)
+  double weld_tolerance = 0;   // metres; 0: half the spacing, at least 1.5 cm
+  int max_sew_iterations = 4000;
+  int max_iterations = 8000;   // sewing and draping together
+  int min_drape_iterations = 40;
+  // m/s: after welding, settled when the nodes' net speed over the last 0.1 s of simulated time
+  // (at least 25 iterations), displacement / duration, rms over the nodes, is below it (the
+  // instantaneous speed of a resting cloth is mostly contact chatter: see drape.cpp)
+  double settle_speed = 0.02;
+  double time_budget = 0;      // seconds of wall clock; 0: none. When spent: best state, not converged
+  bool resolve = true;         // run the penetration resolver on the result
+  ResolverParams resolver;
+  MeshLimits limits;           // the cloth's node count (meshPattern) is held to limits.max_vertices
+};
+
+struct DrapeProgress {
+  int iteration = 0;
+  bool sewing = true;
+  double seam_gap = 0;        // largest open seam gap, metres
+  double kinetic_energy = 0;  // J
+  double max_speed = 0;       // m/s
+  double seconds = 0;
+};
+// Called every `progress_every` iterations; return false to cancel.
+using DrapeProgressCallback = std::function<bool(const DrapeProgress&)>;
+
+struct DrapeResult {
+  bool success = false;    // false: bad input or the integration blew up (see message)
+  bool converged = false;  // seams welded, cloth settled, and (if run) the resolver converged
+  bool cancelled = false;
+  std::string message;     // the error, or a one-line summary
+  std::vector<std::string> warnings;
+  std::size_t vertices = 0, triangles = 0;
+  int iterations = 0, sew_iterations = 0;
+  double dt = 0, dt_bound = 0;  // seconds; dt_bound: eq. 4 per node (ClothState::stableTimeStep)
+  double dt_bound_paper = 0;    // eq. 4 with the stiffest single spring (reported only)
+  int map_size = 0;             // image space: pixels along the longer side
+  double seconds_setup = 0;     // meshing, and maps or BVH if not cached yet
+  double seconds_simulation = 0;
+  double seconds_per_iteration = 0;
+  double seconds_resolve = 0;
+  double seconds_total = 0;
+  int seams_total = 0, seams_open = 0;
+  double seam_gap_max = 0, seam_gap_mean = 0;  // of the seams still open, metres
+  double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs
+  double max_speed = 0, kinetic_energy = 0;    // at the end (instantaneous)
+  double net_speed = 0;  // m/s: the last settle test's net rms speed over its window (0: none yet)
+  // Garment vertices inside the body mesh (not the maps), before and after the resolver pass.
+  std::size_t penetrating_before_resolve = 0, penetrating_after = 0;
+  bool resolver_run = false;
+  ResolverReport resolver;
+  // #V by 3: the garment as draped, before the resolver pass moved it (empty when it did not run),
+  // so that a viewer can show what the resolver moved.
+  MatrixX3d draped_vertices;
+};
+
+// Drapes `pattern` on `body`; the result (welded, one mesh) goes to `garment` even when not
+// converged, as long as success is true.
+DrapeResult drape(const Body& body, const Pattern& pattern, const DrapeParams& params,
+                  TriMesh& garment, const DrapeProgressCallback& progress = nullptr,
+                  int progress_every = 25);
+
+// Checks parameters; "" or a message naming the parameter and the allowed range. Mass (density),
+// stiffnesses, damping, tol, map_size, friction, reflection, dt, iteration counts, settle speed,
+// weld tolerance, time budget, and the limits (max_vertices, max_faces >= 1).
+std::string validateDrapeParams(const DrapeParams& params);
+
+}  // namespace virtual_tryon

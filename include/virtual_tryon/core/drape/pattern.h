@@ -1,0 +1,164 @@
+// Garment patterns (Vassilev et al. 2001, sec. 1): panels cut from cloth, placed around the body,
+// and seams that sew stretches of panel outlines together. Meshing turns the panels into regular
+// grids of mass points (the paper's rectangular topology) with triangles for output.
+#pragma once
+
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace virtual_tryon {
+
+using MatrixX2d = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+// Where a panel starts around the body.
+// Flat: panel point (u, v) goes to pose * (u, v, 0): the panel lies in the pose's x-y plane and
+// faces the pose's +z.
+// Wrapped on a cylinder of `wrap_radius` whose axis is the pose's y axis through the pose's origin:
+// (u, v) goes to pose * (r sin(u / r), v, r cos(u / r)), so u = 0 lies on the pose's +z side and
+// the panel curls round the axis (sleeves, trouser legs, skirts round the body).
+struct PanelPlacement {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  double wrap_radius = 0;  // 0: flat
+  Eigen::Vector3d place(const Eigen::Vector2d& uv) const;
+};
+
+struct PatternPanel {
+  std::string name;
+  MatrixX2d outline;  // #P by 2, a simple polygon in metres, counter-clockwise
+  PanelPlacement placement;
+};
+
+// A stretch of a panel's outline: the walk along the outline from vertex `from` to vertex `to`,
+// going the way round that passes fewer outline edges (wrapping past the last vertex when that is
+// the shorter way). So on a 4-point outline {1, 2} is edge 1-2 walked from 1 to 2, {0, 3} is edge
+// 3-0 walked from 0 to 3, and swapping from and to walks the same edges the other way. The walk
+// is a property of the outline's geometry, not of its index order, so reversing an outline
+// (normalizePattern) keeps every stretch on the same points in the same direction.
+// from == to is not allowed, and neither is a stretch exactly half-way round an outline with an
+// even number of points (either way would do: split such a seam in two); a stretch over more than
+// half of an outline is written as two seams.
+struct OutlineStretch {
+  int panel = -1;
+  int from = 0;
+  int to = 0;
+};
+
+// A seam sews stretch a to stretch b; the walk along a pairs with the walk along b in order, so
+// the direction of each stretch matters (a.from meets b.from, a.to meets b.to). Both stretches may
+// lie on the same panel (a tube from one panel, a dart).
+struct PatternSeam {
+  OutlineStretch a, b;
+  // Sewing order: a seam pulls only once every seam of a lower stage is welded (0 first). Lets a
+  // garment close its body before sleeves are set into the armholes.
+  int stage = 0;
+};
+
+struct Pattern {
+  std::string name;
+  std::vector<PatternPanel> panels;
+  std::vector<PatternSeam> seams;
+};
+
+// Checks a pattern: at least one panel, outlines of >= 3 finite points, no two outline points in
+// a row equal, not self-intersecting (no two non-adjacent edges meet, touching included), non-zero
+// area (clockwise outlines are reversed by normalizePattern, not refused), finite placements with
+// a proper rotation and a finite wrap radius >= 0, seams naming existing panels and outline
+// vertices with from != to and not exactly half-way round, and seam stretches whose lengths differ
+// by at most `maxLengthRatio` (longer / shorter). Returns "" when usable, else the first problem:
+// "panel 'front' (index 0): ..." or "seam 2: ...".
+// Also refused, before anything else is looked at (the self-intersection test is quadratic in the
+// outline size): more than kMaxPatternPanels panels, an outline of more than kMaxOutlinePoints
+// points, more than kMaxPatternOutlinePoints outline points in all, more than kMaxPatternSeams
+// seams. Real garments have a few panels of a few dozen points.
+std::string validatePattern(const Pattern& pattern, double maxLengthRatio = 1.5);
+
+constexpr std::size_t kMaxPatternPanels = 256;
+constexpr std::size_t kMaxOutlinePoints = 2048;
+constexpr std::size_t kMaxPatternOutlinePoints = 16384;
+constexpr std::size_t kMaxPatternSeams = 4096;
+
+// Makes every outline counter-clockwise: a clockwise outline of n points is reversed (point i
+// becomes point n-1-i) and every stretch on it is renumbered the same way (from -> n-1-from,
+// to -> n-1-to), which keeps it on the same points walked in the same direction, so every seam
+// still sews the same points together.
+void normalizePattern(Pattern& pattern);
+
+// Length of a stretch along its panel's outline (metres); 0 when the stretch is not valid.
+double stretchLength(const Pattern& pattern, const OutlineStretch& s);
+
+// The outline vertex indices a stretch walks through, `from` first and `to` last; empty when the
+// stretch does not name an existing panel and two distinct vertices of its outline.
+std::vector<int> stretchVertices(const Pattern& pattern, const OutlineStretch& s);
+
+// Signed area of an outline (shoelace): > 0 when counter-clockwise.
+double outlineSignedArea(const MatrixX2d& outline);
+
+enum class SpringType { Structural = 0, Shear = 1, Flexion = 2 };
+
+struct Spring {
+  int a = -1, b = -1;
+  double rest = 0;  // rest length from the flat panel, metres
+  SpringType type = SpringType::Structural;
+};
+
+// A pair of mass points that a seam pulls together.
+struct SeamPair {
+  int a = -1, b = -1;
+  int seam = -1;  // index into pattern.seams
+};
+
+// All panels meshed into one cloth.
+struct ClothMesh {
+  MatrixX3d X;                           // #N by 3 placed start positions
+  MatrixX2d UV;                          // #N by 2 positions in the flat panel
+  std::vector<int> panel;                // #N panel index per node
+  MatrixX3i F;                           // #T by 3 triangles (two per grid quad), for output
+  std::vector<std::array<int, 4>> quads; // grid quads (corners in order round the quad)
+  std::vector<Spring> springs;           // structural, shear and flexion
+  std::vector<SeamPair> seam_pairs;
+  std::vector<int> seam_stage;           // per pattern seam, its PatternSeam::stage
+  double spacing = 0;                    // grid spacing used, metres
+};
+
+// Meshes every panel into a regular grid of `spacing` (metres) clipped to its outline: grid
+// nodes inside the outline are kept, quads whose four corners are kept become two triangles, and
+// springs join kept nodes: structural (1 apart in i or j), shear (diagonals), flexion (2 apart).
+// PatternSeam stretches are sampled into pairs of boundary nodes, one pair per node of the stretch that
+// has more. Returns false with `error` when the pattern is invalid or a panel holds no quad at
+// that spacing.
+//
+// Details. Per panel the grid has floor(width / spacing) + 1 by floor(height / spacing) + 1 nodes
+// and is centred on the outline's bounding box (so a rectangle whose sides are multiples of the
+// spacing gets nodes on its whole boundary). A node is kept when inside the outline or within
+// 1e-9 m of it. A kept node that lacks its neighbour on one side along a grid axis (and is not
+// on the outline) is moved out along that axis onto the outline when it lies less than two
+// spacings away (a corner node both ways, or only one way when both would leave the outline), so
+// the meshed panel is as wide and as tall as its pattern at any spacing (without it a coarse grid
+// loses up to two spacings at every slanted edge, a kept node in no quad being dropped:
+// body_hm08's trousers at 3.7 cm lost 10-27% of their waist). UV holds the moved positions; links, quads and springs are decided on the grid. Two grid neighbours are linked only when the segment between them stays inside
+// the outline (so a notch or dart narrower than the spacing is not bridged); a quad needs its four
+// corners kept and its four sides linked. Kept nodes in no quad are dropped. Quads are
+// (i,j), (i+1,j), (i+1,j+1), (i,j+1) (counter-clockwise in uv), triangles (c0,c1,c2), (c0,c2,c3),
+// so after placement their normals point along the pose's +z, outward for a wrap. Springs (no
+// duplicates) join linked nodes: structural i/j +-1, shear both diagonals whose ends are kept,
+// flexion i/j +-2 with the middle node kept and both halves linked; rest lengths from UV.
+// Nodes are numbered panel by panel (panel 0 first), row by row (v, then u) within a panel.
+// Boundary nodes: nodes with a 4-neighbour missing (or not linked) or lying on the outline.
+// Seams: N = the larger number of boundary nodes near either stretch (within 0.75 * spacing of
+// its polyline, or within one spacing with the closest point not at one of its ends: next to a
+// slanted stretch a boundary node can be up to a spacing away); each
+// stretch polyline is sampled at N points evenly by arc length (from `from` to `to`), sample k of
+// a pairs with sample k of b, each mapped to the nearest boundary node of its panel; exact
+// duplicate pairs and pairs of one node are dropped. A seam left with < 2 pairs is an error.
+// Size: the grids of all panels together (before clipping to the outlines) may hold at most
+// 4 x limits.max_vertices nodes, and the cloth at most limits.max_vertices nodes; both are checked
+// before the grids are allocated (the first) or the cloth is (the second).
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
+                 const MeshLimits& limits = MeshLimits());
+
+}  // namespace virtual_tryon

@@ -1,0 +1,41 @@
+// Edge-face crossings between a garment and a body, in both directions, found through FCL BVHs:
+// FCL reports the pairs of triangles that intersect; each pair's edges are then tested against the
+// other triangle with segmentCrossesTriangle() (edge_face_crossing.h).
+#pragma once
+
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <vector>
+
+namespace virtual_tryon {
+
+struct EdgeFaceCrossing {
+  int edge = -1;  // unique-edge index of the mesh the edge belongs to
+  int face = -1;  // face index of the other mesh
+  double t = 0;   // crossing point = E(edge,0) + t (E(edge,1) - E(edge,0))
+  Eigen::Vector3d bary{0, 0, 0};  // crossing point in barycentric coordinates of `face`
+  double s0 = 0, s1 = 0;  // signed distances of E(edge,0), E(edge,1) from the face's plane
+};
+
+struct CrossingSet {
+  std::vector<EdgeFaceCrossing> garment_edges;  // garment edge x body face
+  std::vector<EdgeFaceCrossing> body_edges;     // body edge x garment face
+  std::size_t size() const { return garment_edges.size() + body_edges.size(); }
+};
+
+// The garment's connectivity, computed once per garment and reused every round.
+struct GarmentTopology {
+  MatrixX2i edges;       // #E by 2
+  MatrixX3i face_edges;  // #F by 3
+  explicit GarmentTopology(const TriMesh& garment);
+};
+
+// Finds every crossing between `garment` (positions as they are now) and `body`.
+// If `faces` is non-null only those garment faces (and their edges) are tested: the result then
+// holds the crossings that involve one of those faces or one of their edges.
+// Results are sorted (edge, face) and free of duplicates.
+void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                     CrossingSet& out, const std::vector<int>* faces = nullptr);
+
+}  // namespace virtual_tryon

@@ -1,0 +1,113 @@
+// Sun, Nyberg, Xiong, Ye (2016), "Minimum displacements for cloth-obstacle penetration
+// resolving": history-free, orientation-based separation of a garment from a rigid body.
+//
+// Each round: detect every edge-face crossing in both directions (intersections.h), turn each into
+// a stencil (stencils.h), group stencils that share garment vertices into impact zones and solve
+// each zone for the minimum displacement (impact_zones.h), move the garment. Repeat until no
+// crossing is left, or the iteration limit, or no progress (the paper's Fig. 5 cases).
+#pragma once
+
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace virtual_tryon {
+
+// How each round turns the stencils into displacements.
+enum class ZoneSolver {
+  // The paper: stencils that share garment vertices form an impact zone, solved together for the
+  // minimum displacement (eq. 7, lambda >= 0; impact_zones.h). The default.
+  ImpactZone,
+  // A baseline for the evaluation, not a method of the paper: every stencil is projected on its
+  // own (lambda_i = max(0, (d - D_i) / |grad_i|^2)), and a vertex several stencils move gets the
+  // mean of their displacements (Jacobi projection with constraint averaging). No zones, so no
+  // contradiction is ever detected: such spots only stall.
+  PerStencilProjection,
+};
+
+// One entry per step of the run, for error-against-time plots: the state after the first
+// detection (iteration 0), then after every round (and after a push-out of wholly inside pieces).
+struct ResolverIteration {
+  int iteration = 0;       // rounds done so far
+  double seconds = 0;      // since the call began, without the time spent in on_iteration
+  std::size_t garment_edge_crossings = 0;  // by the resolver's own detector, after this step
+  std::size_t body_edge_crossings = 0;
+  std::size_t vertices_inside = 0;   // closed body: garment vertices inside, as the resolver tracks them
+  std::size_t illegal_vertices = 0;  // found behind a body face in this round
+  std::size_t stencils = 0;
+  std::size_t impact_zones = 0;      // 0 for ZoneSolver::PerStencilProjection
+  std::size_t infeasible_zones = 0;
+  std::size_t moved_vertices = 0;    // moved in this step
+  double max_condition_estimate = 1;  // largest pivot ratio of this round's direct zone solves
+  bool push_out = false;  // this step pushed garment pieces found wholly inside to the surface
+};
+
+struct ResolverParams {
+  // Clearance d of eq. 7 in metres; <= 0 means clearance_fraction * mean garment edge length.
+  double clearance = 0.0;
+  double clearance_fraction = 0.05;
+  int max_iterations = 100;
+  // Stop as not converged when the error (crossings plus garment vertices inside the body) has not
+  // reached a new minimum for this many rounds (a configuration that orientation alone cannot
+  // resolve, the paper's Fig. 5).
+  int stall_iterations = 12;
+  // For a closed body, test whether garment pieces with no crossing edge lie wholly inside.
+  bool check_inside = true;
+  // Move garment pieces found wholly inside out to the nearest body point (+ clearance) and go on
+  // resolving; when false they are only reported.
+  bool push_out_inside = true;
+  ZoneSolver solver = ZoneSolver::ImpactZone;
+  // Wall-clock limit in seconds (0: none), checked before every round. When spent the run stops,
+  // not converged, the reason says so, and the garment is left in the best state reached.
+  double time_budget = 0;
+  // Optional observer, called with every trace entry and the garment as it is then (e.g. to count
+  // crossings independently). Its time is left out of every time the resolver reports.
+  std::function<void(const ResolverIteration&, const TriMesh& garment)> on_iteration;
+};
+
+struct ResolverReport {
+  bool converged = false;
+  std::string reason;
+  int iterations = 0;
+  std::size_t garment_edge_crossings_before = 0;
+  std::size_t body_edge_crossings_before = 0;
+  std::size_t garment_edge_crossings_after = 0;
+  std::size_t body_edge_crossings_after = 0;
+  std::size_t illegal_vertices = 0;  // distinct garment vertices found illegal over the run
+  std::size_t impact_zones = 0;      // summed over rounds
+  std::size_t infeasible_zones = 0;  // summed over rounds
+  std::size_t vertices_inside_before = 0;
+  std::size_t vertices_inside_after = 0;
+  bool body_closed = false;
+  bool time_budget_spent = false;
+  double max_condition_estimate = 1;  // over every direct zone solve of the run (ZoneSolution)
+  std::size_t moved_vertices = 0;
+  double clearance = 0;
+  double mean_displacement = 0;  // over moved vertices
+  double max_displacement = 0;
+  double seconds_detection = 0;
+  double seconds_solve = 0;
+  double seconds_total = 0;
+  std::vector<ResolverIteration> trace;  // see ResolverIteration
+};
+
+// Resolves `garment` (#V by 3 positions change, faces and vertex order do not) against `body`.
+// The garment must be valid (see validate()); the body must be valid and outward-oriented (a
+// closed body with negative volume, i.e. inside out, is refused: not converged, nothing moved).
+//
+// When the run stops without converging (iteration limit, no progress, time budget), the garment
+// is left in the state with the smallest error (crossings plus vertices inside, by the resolver's
+// own detector) reached since the last push-out (the earliest of equals), and the "after" counts
+// describe that state.
+//
+// Cost: one full detection pass (and, for a closed body, one ray test per connected garment
+// piece); after that every round touches only the stencils, the moved vertices and the faces
+// round them, so a frame with few penetrating vertices costs little beyond the first pass.
+ResolverReport resolvePenetrations(const Body& body, TriMesh& garment,
+                                   const ResolverParams& params = ResolverParams());
+
+}  // namespace virtual_tryon

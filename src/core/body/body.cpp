@@ -1,0 +1,69 @@
+#include "virtual_tryon/core/body/body.h"
+
+#include "core/geometry/fcl_bvh.h"
+
+#include <chrono>
+
+namespace virtual_tryon {
+
+const fcl::CollisionObjectd& BodyBVH::distanceObject(const MatrixX3d& V, const MatrixX3i& F) const {
+  std::call_once(distance_once_, [&] {
+    distance_model_ = buildFclModel<FclDistanceModel>(V, F, nullptr);
+    distance_object_ = std::make_unique<fcl::CollisionObjectd>(distance_model_, fcl::Transform3d::Identity());
+  });
+  return *distance_object_;
+}
+
+Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
+  face_normals_ = virtual_tryon::faceNormals(mesh_);
+  topology_ = edgeTopology(mesh_);
+  mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
+  signed_volume_ = virtual_tryon::signedVolume(mesh_);
+  boundingBox(mesh_, box_min_, box_max_);
+}
+
+void Body::buildAdjacency() const {
+  std::call_once(adjacency_once_, [this] {
+    edges_ = uniqueEdges(mesh_, &face_edges_);
+    edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
+    for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
+      for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
+    for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
+      const double len = edge_normals_.row(e).norm();
+      if (len > 0) edge_normals_.row(e) /= len;
+    }
+    adjacency_built_ = true;
+  });
+}
+
+Body::~Body() = default;
+
+const BodyBVH& Body::bvh() const {
+  std::call_once(bvh_once_, [this] {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto b = std::make_unique<BodyBVH>();
+    b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
+    bvh_ = std::move(b);
+    bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    bvh_built_ = true;
+  });
+  return *bvh_;
+}
+
+std::shared_ptr<const DepthMaps> Body::depthMaps(const CollisionParams& params) const {
+  std::lock_guard<std::mutex> lock(maps_mutex_);
+  if (!maps_ || maps_tol_ != params.tol || maps_size_ != params.map_size) {
+    maps_ = std::make_shared<const DepthMaps>(mesh_, params);
+    maps_tol_ = params.tol;
+    maps_size_ = params.map_size;
+    ++maps_renders_;
+  }
+  return maps_;
+}
+
+int Body::depthMapRenders() const {
+  std::lock_guard<std::mutex> lock(maps_mutex_);
+  return maps_renders_;
+}
+
+}  // namespace virtual_tryon

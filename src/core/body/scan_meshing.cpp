@@ -1,0 +1,564 @@
+#include "virtual_tryon/core/body/scan_meshing.h"
+
+#include <pcl/common/centroid.h>
+#include <pcl/common/common.h>
+#include <pcl/common/eigen.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/surface/poisson.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+namespace virtual_tryon {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(const Clock::time_point& t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// The symmetric kNN graph in compressed rows: the neighbours of i are adj[off[i] .. off[i+1]).
+struct Graph {
+  std::vector<int> off, adj;
+};
+
+// k nearest neighbours of every point (itself excluded), #P * k indices (-1 where fewer exist).
+std::vector<int> nearestNeighbours(const pcl::PointCloud<pcl::PointNormal>::ConstPtr& cloud, int k) {
+  pcl::KdTreeFLANN<pcl::PointNormal> tree;
+  tree.setInputCloud(cloud);
+  const std::size_t n = cloud->size();
+  std::vector<int> knn(n * static_cast<std::size_t>(k), -1);
+  pcl::Indices idx;
+  std::vector<float> d2;
+  for (std::size_t i = 0; i < n; ++i) {
+    tree.nearestKSearch((*cloud)[i], k + 1, idx, d2);
+    int m = 0;
+    for (std::size_t j = 0; j < idx.size() && m < k; ++j)
+      if (static_cast<std::size_t>(idx[j]) != i) knn[i * static_cast<std::size_t>(k) + m++] = idx[j];
+  }
+  return knn;
+}
+
+Graph symmetricGraph(const std::vector<int>& knn, std::size_t n, int k) {
+  Graph g;
+  g.off.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int m = 0; m < k; ++m) {
+      const int j = knn[i * static_cast<std::size_t>(k) + m];
+      if (j < 0) continue;
+      ++g.off[i + 1];
+      ++g.off[static_cast<std::size_t>(j) + 1];
+    }
+  for (std::size_t i = 0; i < n; ++i) g.off[i + 1] += g.off[i];
+  g.adj.resize(static_cast<std::size_t>(g.off[n]));
+  std::vector<int> fill(g.off.begin(), g.off.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int m = 0; m < k; ++m) {
+      const int j = knn[i * static_cast<std::size_t>(k) + m];
+      if (j < 0) continue;
+      g.adj[static_cast<std::size_t>(fill[i]++)] = j;
+      g.adj[static_cast<std::size_t>(fill[static_cast<std::size_t>(j)]++)] = static_cast<int>(i);
+    }
+  return g;
+}
+
+// PCA normal of each point from itself and its k neighbours (the eigenvector of the smallest
+// eigenvalue of the covariance); unoriented.
+void estimateNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<int>& knn, int k) {
+  const std::size_t n = cloud.size();
+  pcl::Indices idx;
+  Eigen::Matrix3f cov;
+  Eigen::Vector4f centroid;
+  for (std::size_t i = 0; i < n; ++i) {
+    idx.assign(1, static_cast<int>(i));
+    for (int m = 0; m < k; ++m) {
+      const int j = knn[i * static_cast<std::size_t>(k) + m];
+      if (j >= 0) idx.push_back(j);
+    }
+    pcl::PointNormal& p = cloud[i];
+    if (idx.size() < 3 || pcl::computeMeanAndCovarianceMatrix(cloud, idx, cov, centroid) == 0) {
+      p.normal_x = 0, p.normal_y = 0, p.normal_z = 1;
+      continue;
+    }
+    float eigenvalue;
+    Eigen::Vector3f eigenvector;
+    pcl::eigen33(cov, eigenvalue, eigenvector);
+    if (!eigenvector.allFinite() || eigenvector.norm() == 0) eigenvector = Eigen::Vector3f::UnitZ();
+    eigenvector.normalize();
+    p.normal_x = eigenvector.x(), p.normal_y = eigenvector.y(), p.normal_z = eigenvector.z();
+  }
+}
+
+// Orients the normals consistently and outward: Prim's minimum spanning tree over the graph with
+// weights 1 - |ni . nj|, one tree per connected component, seeded at the point farthest from the
+// component's bounding-box centre (its normal must point away from that centre); each point takes
+// the sign that agrees with its tree parent. Returns the number of normals flipped; `components`
+// receives the number of trees.
+std::size_t orientNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph& g, std::size_t& components) {
+  const std::size_t n = cloud.size();
+  auto normal = [&](std::size_t i) { return cloud[i].getNormalVector3fMap(); };
+  // Components (breadth-first), their boxes and seeds.
+  std::vector<int> comp(n, -1);
+  std::vector<int> order;
+  order.reserve(n);
+  std::vector<std::size_t> seeds;
+  std::size_t flipped = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (comp[s] >= 0) continue;
+    const int c = static_cast<int>(seeds.size());
+    const std::size_t begin = order.size();
+    comp[s] = c;
+    order.push_back(static_cast<int>(s));
+    Eigen::Vector3f lo = cloud[s].getVector3fMap(), hi = lo;
+    for (std::size_t q = begin; q < order.size(); ++q) {
+      const std::size_t i = static_cast<std::size_t>(order[q]);
+      lo = lo.cwiseMin(cloud[i].getVector3fMap());
+      hi = hi.cwiseMax(cloud[i].getVector3fMap());
+      for (int e = g.off[i]; e < g.off[i + 1]; ++e) {
+        const int j = g.adj[static_cast<std::size_t>(e)];
+        if (comp[static_cast<std::size_t>(j)] < 0) {
+          comp[static_cast<std::size_t>(j)] = c;
+          order.push_back(j);
+        }
+      }
+    }
+    const Eigen::Vector3f centre = 0.5f * (lo + hi);
+    std::size_t seed = s;
+    float best = -1;
+    for (std::size_t q = begin; q < order.size(); ++q) {
+      const std::size_t i = static_cast<std::size_t>(order[q]);
+      const float d = (cloud[i].getVector3fMap() - centre).squaredNorm();
+      if (d > best) best = d, seed = i;
+    }
+    if (normal(seed).dot(cloud[seed].getVector3fMap() - centre) < 0) {
+      normal(seed) = -normal(seed);
+      ++flipped;
+    }
+    seeds.push_back(seed);
+  }
+  components = seeds.size();
+
+  // Prim, with a best-known weight per point so that each point is pushed only when its key drops.
+  std::vector<float> key(n, std::numeric_limits<float>::infinity());
+  std::vector<int> parent(n, -1);
+  std::vector<char> done(n, 0);
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  for (std::size_t seed : seeds) {
+    key[seed] = 0;
+    heap.push({0.0f, static_cast<int>(seed)});
+    while (!heap.empty()) {
+      const int i = heap.top().second;
+      const float w = heap.top().first;
+      heap.pop();
+      const std::size_t ui = static_cast<std::size_t>(i);
+      if (done[ui] || w > key[ui]) continue;
+      done[ui] = 1;
+      if (parent[ui] >= 0 && normal(ui).dot(normal(static_cast<std::size_t>(parent[ui]))) < 0) {
+        normal(ui) = -normal(ui);
+        ++flipped;
+      }
+      for (int e = g.off[ui]; e < g.off[ui + 1]; ++e) {
+        const std::size_t j = static_cast<std::size_t>(g.adj[static_cast<std::size_t>(e)]);
+        if (done[j]) continue;
+        const float wj = 1.0f - std::abs(normal(ui).dot(normal(j)));
+        if (wj < key[j]) {
+          key[j] = wj;
+          parent[j] = i;
+          heap.push({wj, static_cast<int>(j)});
+        }
+      }
+    }
+  }
+  return flipped;
+}
+
+// Removes vertices no face uses (indices remapped).
+void removeUnusedVertices(TriMesh& m) {
+  std::vector<int> map(static_cast<std::size_t>(m.V.rows()), -1);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) map[static_cast<std::size_t>(m.F(f, k))] = 0;
+  int next = 0;
+  for (int& x : map)
+    if (x == 0) x = next++;
+  MatrixX3d V(next, 3);
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if (map[i] >= 0) V.row(map[i]) = m.V.row(static_cast<Eigen::Index>(i));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) m.F(f, k) = map[static_cast<std::size_t>(m.F(f, k))];
+  m.V = std::move(V);
+}
+
+// Drops the pieces (connected over vertices) with fewer faces than fraction x the largest piece's.
+std::size_t dropSmallPieces(TriMesh& m, double fraction) {
+  if (fraction <= 0 || m.F.rows() == 0) return 0;
+  std::vector<int> label;
+  const int count = connectedComponents(m, label);
+  std::vector<std::size_t> faces(static_cast<std::size_t>(count), 0);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) ++faces[static_cast<std::size_t>(label[static_cast<std::size_t>(m.F(f, 0))])];
+  const std::size_t largest = *std::max_element(faces.begin(), faces.end());
+  std::size_t dropped = 0;
+  for (std::size_t c : faces)
+    if (c > 0 && static_cast<double>(c) < fraction * static_cast<double>(largest)) ++dropped;
+  if (dropped == 0) return 0;
+  MatrixX3i F(m.F.rows(), 3);
+  Eigen::Index nf = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    if (static_cast<double>(faces[static_cast<std::size_t>(label[static_cast<std::size_t>(m.F(f, 0))])]) >=
+        fraction * static_cast<double>(largest))
+      F.row(nf++) = m.F.row(f);
+  F.conservativeResize(nf, 3);
+  m.F = std::move(F);
+  removeUnusedVertices(m);
+  return dropped;
+}
+
+// Poisson's surface is a level set of one indicator function, so all its pieces share one winding
+// convention: a piece wound opposite to the largest one (by |volume|) is the inner wall of a cavity
+// (an air bubble in the indicator, e.g. a pocket closed off between touching thighs). Removes those
+// pieces; returns how many.
+std::size_t removeCavities(TriMesh& m) {
+  if (m.F.rows() == 0) return 0;
+  std::vector<int> label;
+  const int count = connectedComponents(m, label);
+  if (count < 2) return 0;
+  std::vector<double> volume(static_cast<std::size_t>(count), 0.0);
+  const Eigen::RowVector3d c = m.V.colwise().mean();  // any origin: each piece is closed or nearly
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d a = (m.V.row(m.F(f, 0)) - c).transpose();
+    const Eigen::Vector3d b = (m.V.row(m.F(f, 1)) - c).transpose();
+    const Eigen::Vector3d d = (m.V.row(m.F(f, 2)) - c).transpose();
+    volume[static_cast<std::size_t>(label[static_cast<std::size_t>(m.F(f, 0))])] += a.dot(b.cross(d)) / 6.0;
+  }
+  std::size_t largest = 0;
+  for (std::size_t i = 1; i < volume.size(); ++i)
+    if (std::abs(volume[i]) > std::abs(volume[largest])) largest = i;
+  const double sign = volume[largest] >= 0 ? 1.0 : -1.0;
+  std::size_t removed = 0;
+  std::vector<char> cavity(volume.size(), 0);
+  for (std::size_t i = 0; i < volume.size(); ++i)
+    if (sign * volume[i] < 0) cavity[i] = 1, ++removed;
+  if (removed == 0) return 0;
+  MatrixX3i F(m.F.rows(), 3);
+  Eigen::Index nf = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    if (!cavity[static_cast<std::size_t>(label[static_cast<std::size_t>(m.F(f, 0))])]) F.row(nf++) = m.F.row(f);
+  F.conservativeResize(nf, 3);
+  m.F = std::move(F);
+  removeUnusedVertices(m);
+  return removed;
+}
+
+}  // namespace
+
+std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
+  if (facesAdded) *facesAdded = 0;
+  if (maxEdges < 3) return 0;
+  // Boundary half-edges (a -> b as wound in their only face).
+  std::vector<std::pair<std::pair<int, int>, int>> half;  // ((lo, hi), a) per face corner edge
+  half.reserve(static_cast<std::size_t>(3 * m.F.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.F(f, k), b = m.F(f, (k + 1) % 3);
+      half.push_back({{std::min(a, b), std::max(a, b)}, a});
+    }
+  std::sort(half.begin(), half.end());
+  std::vector<std::pair<int, int>> boundary;  // (from, to)
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i + 1;
+    while (j < half.size() && half[j].first == half[i].first) ++j;
+    if (j - i == 1) {
+      const int a = half[i].second;
+      const int b = a == half[i].first.first ? half[i].first.second : half[i].first.first;
+      boundary.push_back({a, b});
+    }
+    i = j;
+  }
+  if (boundary.empty()) return 0;
+  std::sort(boundary.begin(), boundary.end());
+  std::vector<char> used(boundary.size(), 0);
+  auto nextFrom = [&](int v) -> std::ptrdiff_t {
+    auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, std::numeric_limits<int>::min()));
+    for (; it != boundary.end() && it->first == v; ++it)
+      if (!used[static_cast<std::size_t>(it - boundary.begin())]) return it - boundary.begin();
+    return -1;
+  };
+  std::vector<std::vector<int>> loops;
+  std::vector<int> pos(static_cast<std::size_t>(m.V.rows()), -1);  // index in the current path
+  for (std::size_t s = 0; s < boundary.size(); ++s) {
+    if (used[s]) continue;
+    std::vector<int> path{boundary[s].first};
+    pos[static_cast<std::size_t>(path[0])] = 0;
+    used[s] = 1;
+    int v = boundary[s].second;
+    while (true) {
+      const int at = pos[static_cast<std::size_t>(v)];
+      if (at >= 0) {  // a loop closes at v: cut it off, go on from v
+        loops.emplace_back(path.begin() + at, path.end());
+        for (std::size_t q = static_cast<std::size_t>(at) + 1; q < path.size(); ++q)
+          pos[static_cast<std::size_t>(path[q])] = -1;
+        path.resize(static_cast<std::size_t>(at) + 1);
+      } else {
+        pos[static_cast<std::size_t>(v)] = static_cast<int>(path.size());
+        path.push_back(v);
+      }
+      const std::ptrdiff_t e = nextFrom(v);
+      if (e < 0) break;  // path closed and nothing leaves v, or a dead end (left open)
+      used[static_cast<std::size_t>(e)] = 1;
+      v = boundary[static_cast<std::size_t>(e)].second;
+    }
+    for (int x : path) pos[static_cast<std::size_t>(x)] = -1;
+  }
+  std::vector<Eigen::Vector3d> newV;
+  std::vector<Eigen::Vector3i> newF;
+  std::size_t filled = 0;
+  for (const std::vector<int>& loop : loops) {
+    const int n = static_cast<int>(loop.size());
+    if (n < 3 || n > maxEdges) continue;
+    ++filled;
+    if (n == 3) {
+      newF.emplace_back(loop[2], loop[1], loop[0]);
+      continue;
+    }
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : loop) c += m.V.row(v).transpose();
+    const int ci = static_cast<int>(m.V.rows() + static_cast<Eigen::Index>(newV.size()));
+    newV.push_back(c / n);
+    for (int j = 0; j < n; ++j) newF.emplace_back(loop[static_cast<std::size_t>((j + 1) % n)], loop[static_cast<std::size_t>(j)], ci);
+  }
+  if (newF.empty()) return filled;
+  const Eigen::Index v0 = m.V.rows(), f0 = m.F.rows();
+  m.V.conservativeResize(v0 + static_cast<Eigen::Index>(newV.size()), 3);
+  for (std::size_t i = 0; i < newV.size(); ++i) m.V.row(v0 + static_cast<Eigen::Index>(i)) = newV[i].transpose();
+  m.F.conservativeResize(f0 + static_cast<Eigen::Index>(newF.size()), 3);
+  for (std::size_t i = 0; i < newF.size(); ++i) m.F.row(f0 + static_cast<Eigen::Index>(i)) = newF[i].transpose();
+  if (facesAdded) *facesAdded = newF.size();
+  return filled;
+}
+
+std::string validateScanMeshingParams(const ScanMeshingParams& p) {
+  if (!(p.voxel_size >= 0) || !std::isfinite(p.voxel_size))
+    return "voxel_size must be finite and >= 0 metres (0 = no downsampling), got " + num(p.voxel_size);
+  if (p.normal_neighbours < 3 || p.normal_neighbours > 100)
+    return "normal_neighbours must be in [3, 100], got " + std::to_string(p.normal_neighbours);
+  if (!(p.max_normal_disagreement >= 0 && p.max_normal_disagreement <= 1))
+    return "max_normal_disagreement must be in [0, 1], got " + num(p.max_normal_disagreement);
+  if (p.depth < 4 || p.depth > 12) return "depth must be in [4, 12], got " + std::to_string(p.depth);
+  if (!(p.samples_per_node >= 1 && p.samples_per_node <= 50))
+    return "samples_per_node must be in [1, 50], got " + num(p.samples_per_node);
+  if (!(p.point_weight >= 0) || !std::isfinite(p.point_weight))
+    return "point_weight must be finite and >= 0, got " + num(p.point_weight);
+  if (p.threads < 1) return "threads must be >= 1, got " + std::to_string(p.threads);
+  if (p.max_hole_edges < 0) return "max_hole_edges must be >= 0 (0 = no filling), got " + std::to_string(p.max_hole_edges);
+  if (!(p.min_piece_fraction >= 0 && p.min_piece_fraction <= 1))
+    return "min_piece_fraction must be in [0, 1], got " + num(p.min_piece_fraction);
+  if (p.min_points < static_cast<std::size_t>(p.normal_neighbours) + 1)
+    return "min_points must be at least normal_neighbours + 1 = " + std::to_string(p.normal_neighbours + 1) +
+           ", got " + std::to_string(p.min_points);
+  return "";
+}
+
+ScanMeshingResult meshScan(const MatrixX3d& points, const MatrixX3d& normals, const ScanMeshingParams& params) {
+  const auto tStart = Clock::now();
+  ScanMeshingResult r;
+  r.input_points = static_cast<std::size_t>(points.rows());
+  auto fail = [&](const std::string& message) {
+    r.success = false;
+    r.message = message;
+    r.seconds_total = since(tStart);
+    return r;
+  };
+  const std::string bad = validateScanMeshingParams(params);
+  if (!bad.empty()) return fail(bad);
+  if (points.rows() == 0) return fail("scan has no points");
+  const bool haveNormals = normals.rows() > 0;
+  if (haveNormals && normals.rows() != points.rows())
+    return fail("normals must be empty or one per point: " + std::to_string(normals.rows()) + " normals for " +
+                std::to_string(points.rows()) + " points");
+
+  try {
+    // 1. Finite points (and normals) only.
+    auto t0 = Clock::now();
+    pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
+    cloud->reserve(static_cast<std::size_t>(points.rows()));
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+      if (!points.row(i).allFinite()) continue;
+      Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+      if (haveNormals) {
+        n = normals.row(i).transpose();
+        const double len = n.norm();
+        if (!std::isfinite(len) || len == 0) continue;
+        n /= len;
+      }
+      pcl::PointNormal p;
+      p.x = static_cast<float>(points(i, 0)), p.y = static_cast<float>(points(i, 1)), p.z = static_cast<float>(points(i, 2));
+      p.normal_x = static_cast<float>(n.x()), p.normal_y = static_cast<float>(n.y()), p.normal_z = static_cast<float>(n.z());
+      p.curvature = 0;
+      if (!p.getVector3fMap().allFinite()) continue;  // finite double, but out of float range
+      cloud->push_back(p);
+    }
+    r.non_finite_points = r.input_points - cloud->size();
+    if (cloud->size() < params.min_points) {
+      r.seconds_downsample = since(t0);
+      return fail("too few valid points: " + std::to_string(cloud->size()) + " of " + std::to_string(r.input_points) +
+                  " (" + std::to_string(r.non_finite_points) + " non-finite" + (haveNormals ? " or with a bad normal" : "") +
+                  "), min_points = " + std::to_string(params.min_points));
+    }
+
+    // 2. Voxel grid.
+    if (params.voxel_size > 0) {
+      Eigen::Vector4f lo, hi;
+      pcl::getMinMax3D(*cloud, lo, hi);
+      // The voxel count as pcl::VoxelGrid computes it; beyond int32 it warns and returns the input.
+      const double inv = 1.0 / static_cast<float>(params.voxel_size);
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) cells *= std::floor(hi[a] * inv) - std::floor(lo[a] * inv) + 1;
+      if (cells > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+        return fail("voxel_size " + num(params.voxel_size) + " m is too small for a scan of " + num(hi.x() - lo.x()) +
+                    " x " + num(hi.y() - lo.y()) + " x " + num(hi.z() - lo.z()) +
+                    " m (more than 2^31 voxels, PCL's limit)");
+      pcl::VoxelGrid<pcl::PointNormal> grid;
+      grid.setInputCloud(cloud);
+      grid.setLeafSize(static_cast<float>(params.voxel_size), static_cast<float>(params.voxel_size),
+                       static_cast<float>(params.voxel_size));
+      pcl::PointCloud<pcl::PointNormal>::Ptr down(new pcl::PointCloud<pcl::PointNormal>);
+      grid.filter(*down);
+      // Averaged given normals: renormalised; a voxel whose normals cancel out is dropped.
+      pcl::PointCloud<pcl::PointNormal>::Ptr kept(new pcl::PointCloud<pcl::PointNormal>);
+      kept->reserve(down->size());
+      for (pcl::PointNormal p : *down) {
+        const float len = p.getNormalVector3fMap().norm();
+        if (!(len > 1e-3f)) continue;
+        p.getNormalVector3fMap() /= len;
+        kept->push_back(p);
+      }
+      cloud = kept;
+    }
+    r.points_after_downsampling = cloud->size();
+    r.seconds_downsample = since(t0);
+    if (cloud->size() < params.min_points)
+      return fail("too few points after downsampling: " + std::to_string(cloud->size()) + " (voxel_size " +
+                  num(params.voxel_size) + " m), min_points = " + std::to_string(params.min_points));
+
+    // 3. Normals: kNN, estimation or the consistency test of the given ones, orientation.
+    t0 = Clock::now();
+    const int k = params.normal_neighbours;
+    const std::vector<int> knn = nearestNeighbours(cloud, k);
+    bool orient = true;
+    if (!haveNormals) {
+      estimateNormals(*cloud, knn, k);
+      r.normals_estimated = true;
+    } else {
+      std::size_t edges = 0, disagree = 0;
+      for (std::size_t i = 0; i < cloud->size(); ++i)
+        for (int m = 0; m < k; ++m) {
+          const int j = knn[i * static_cast<std::size_t>(k) + m];
+          if (j < 0) continue;
+          ++edges;
+          if ((*cloud)[i].getNormalVector3fMap().dot((*cloud)[static_cast<std::size_t>(j)].getNormalVector3fMap()) < 0)
+            ++disagree;
+        }
+      r.normal_disagreement = edges > 0 ? static_cast<double>(disagree) / static_cast<double>(edges) : 0.0;
+      orient = r.normal_disagreement > params.max_normal_disagreement;
+    }
+    r.seconds_normals = since(t0);
+    t0 = Clock::now();
+    if (orient) {
+      const Graph graph = symmetricGraph(knn, cloud->size(), k);
+      r.normals_flipped = orientNormals(*cloud, graph, r.graph_components);
+      r.normals_reoriented = true;
+    }
+    r.seconds_orient = since(t0);
+
+    // 4. Poisson.
+    t0 = Clock::now();
+    pcl::Poisson<pcl::PointNormal> poisson;
+    poisson.setDepth(params.depth);
+    poisson.setSamplesPerNode(static_cast<float>(params.samples_per_node));
+    poisson.setPointWeight(static_cast<float>(params.point_weight));
+    poisson.setThreads(params.threads);
+    poisson.setInputCloud(cloud);
+    pcl::PointCloud<pcl::PointNormal> meshPoints;
+    std::vector<pcl::Vertices> polygons;
+    poisson.performReconstruction(meshPoints, polygons);  // no search tree needed (reconstruct() builds one)
+    r.seconds_reconstruct = since(t0);
+
+    // 5. To a TriMesh (fans for any polygon), unused vertices and small pieces removed.
+    t0 = Clock::now();
+    r.poisson_vertices = meshPoints.size();
+    std::size_t triangles = 0;
+    for (const pcl::Vertices& poly : polygons)
+      if (poly.vertices.size() >= 3) triangles += poly.vertices.size() - 2;
+    r.poisson_faces = triangles;
+    TriMesh& m = r.mesh;
+    m.V.resize(static_cast<Eigen::Index>(meshPoints.size()), 3);
+    for (std::size_t i = 0; i < meshPoints.size(); ++i)
+      m.V.row(static_cast<Eigen::Index>(i)) = meshPoints[i].getVector3fMap().cast<double>().transpose();
+    m.F.resize(static_cast<Eigen::Index>(triangles), 3);
+    Eigen::Index nf = 0;
+    const auto nv = static_cast<long long>(meshPoints.size());
+    auto inRange = [nv](long long i) { return i >= 0 && i < nv; };
+    for (const pcl::Vertices& poly : polygons) {
+      for (std::size_t j = 2; j < poly.vertices.size(); ++j) {
+        if (!inRange(poly.vertices[0]) || !inRange(poly.vertices[j - 1]) || !inRange(poly.vertices[j])) continue;
+        m.F.row(nf++) << static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[j - 1]),
+            static_cast<int>(poly.vertices[j]);
+      }
+    }
+    m.F.conservativeResize(nf, 3);
+    if (m.F.rows() == 0) {
+      r.seconds_cleanup = since(t0);
+      return fail("Poisson reconstruction produced no faces (" + std::to_string(cloud->size()) + " points, depth " +
+                  std::to_string(params.depth) + ")");
+    }
+    removeUnusedVertices(m);
+    if (params.remove_cavities) r.cavities_removed = removeCavities(m);
+    r.dropped_pieces = dropSmallPieces(m, params.min_piece_fraction);
+    r.holes_filled = closeSmallHoles(m, params.max_hole_edges, &r.hole_faces_added);
+
+    // 6. Check and orient.
+    r.check = orientBody(m);
+    r.seconds_cleanup = since(t0);
+    r.flipped = r.check.flipped;
+    r.vertices = static_cast<std::size_t>(m.V.rows());
+    r.faces = static_cast<std::size_t>(m.F.rows());
+    r.closed = r.check.closed;
+    r.boundary_edges = r.check.boundary_edges;
+    r.non_manifold_edges = r.check.non_manifold_edges;
+    r.signed_volume = r.check.signed_volume;
+    if (!r.check.ok) return fail("reconstructed mesh unusable: " + r.check.message);
+    if (!r.closed) return fail("reconstructed mesh is not closed: " + r.check.summary);
+    if (!(r.signed_volume > 0) || r.check.orientation != BodyOrientation::Outward)
+      return fail("reconstructed mesh is not outward: " + r.check.summary);
+    r.success = true;
+    r.message = r.check.summary;
+    r.seconds_total = since(tStart);
+    return r;
+  } catch (const std::exception& e) {
+    return fail(std::string("PCL failure: ") + e.what());
+  } catch (...) {
+    return fail("PCL failure: unknown exception");
+  }
+}
+
+}  // namespace virtual_tryon

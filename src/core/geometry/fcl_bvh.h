@@ -1,0 +1,71 @@
+// Internal to the core: FCL's types stay in the files that use them.
+#pragma once
+
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/narrowphase/collision_object.h>
+
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace virtual_tryon {
+
+// Collision (edge-face detection) uses AABB trees: the garment's tree is rebuilt every round, and
+// AABBs are several times cheaper to build than OBBRSS. FCL answers mesh distance queries only for
+// RSS-type volumes, so nearest-point queries get their own OBBRSS tree of the body, built only
+// when first needed.
+using FclModel = fcl::BVHModel<fcl::AABBd>;
+using FclDistanceModel = fcl::BVHModel<fcl::OBBRSSd>;
+
+class BodyBVH {
+ public:
+  std::shared_ptr<FclModel> model;
+
+  // The OBBRSS tree for distance queries, built on first use.
+  const fcl::CollisionObjectd& distanceObject(const MatrixX3d& V, const MatrixX3i& F) const;
+
+ private:
+  mutable std::once_flag distance_once_;
+  mutable std::shared_ptr<FclDistanceModel> distance_model_;
+  mutable std::unique_ptr<fcl::CollisionObjectd> distance_object_;
+};
+
+// A BVH over the triangles F (all of them, or only `faces`) of the vertices V.
+// Triangle i of the model is F(i) or F(faces[i]). With `faces`, only the vertices those faces use
+// go into the model (renumbered), so a BVH over a few faces costs little whatever #V.
+template <typename Model>
+std::shared_ptr<Model> buildFclModel(const MatrixX3d& V, const MatrixX3i& F,
+                                     const std::vector<int>* faces) {
+  auto model = std::make_shared<Model>();
+  std::vector<fcl::Vector3d> pts;
+  std::vector<fcl::Triangle> tris;
+  if (faces) {
+    std::vector<int> used;
+    used.reserve(3 * faces->size());
+    for (int f : *faces)
+      for (int k = 0; k < 3; ++k) used.push_back(F(f, k));
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    pts.reserve(used.size());
+    for (int v : used) pts.emplace_back(V.row(v).transpose());
+    auto local = [&](int v) {
+      return static_cast<std::size_t>(std::lower_bound(used.begin(), used.end(), v) - used.begin());
+    };
+    tris.reserve(faces->size());
+    for (int f : *faces) tris.emplace_back(local(F(f, 0)), local(F(f, 1)), local(F(f, 2)));
+  } else {
+    pts.resize(static_cast<std::size_t>(V.rows()));
+    for (Eigen::Index i = 0; i < V.rows(); ++i) pts[static_cast<std::size_t>(i)] = V.row(i).transpose();
+    tris.reserve(static_cast<std::size_t>(F.rows()));
+    for (Eigen::Index f = 0; f < F.rows(); ++f) tris.emplace_back(F(f, 0), F(f, 1), F(f, 2));
+  }
+  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(pts.size()));
+  model->addSubModel(pts, tris);
+  model->endModel();
+  return model;
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,343 @@
+#include "virtual_tryon/core/geometry/mesh.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace virtual_tryon {
+
+namespace {
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string metres(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+
+void fatal(MeshValidation& r, const std::string& message) {
+  r.ok = false;
+  r.message = message;
+}
+
+void joinWarnings(MeshValidation& r) {
+  r.message.clear();
+  for (const std::string& w : r.warnings) r.message += (r.message.empty() ? "" : "; ") + w;
+}
+
+}  // namespace
+
+std::string checkMeshSize(std::uint64_t vertices, std::uint64_t faces, const MeshLimits& limits,
+                          const std::string& what) {
+  if (vertices > limits.max_vertices)
+    return what + " has " + std::to_string(vertices) + " vertices, over the limit of " +
+           std::to_string(limits.max_vertices) + " vertices (MeshLimits::max_vertices)";
+  if (faces > limits.max_faces)
+    return what + " has " + std::to_string(faces) + " triangles, over the limit of " +
+           std::to_string(limits.max_faces) + " triangles (MeshLimits::max_faces)";
+  return "";
+}
+
+MeshValidation validate(const TriMesh& mesh, const std::string& what, const MeshLimits& limits) {
+  MeshValidation r;
+  std::ostringstream msg;
+  if (mesh.V.rows() == 0) {
+    fatal(r, what + " has no vertices");
+    return r;
+  }
+  if (mesh.F.rows() == 0) {
+    fatal(r, what + " has no faces (" + std::to_string(mesh.V.rows()) + " vertices)");
+    return r;
+  }
+  const std::string tooBig = checkMeshSize(static_cast<std::uint64_t>(mesh.V.rows()),
+                                           static_cast<std::uint64_t>(mesh.F.rows()), limits, what);
+  if (!tooBig.empty()) {
+    fatal(r, tooBig);
+    return r;
+  }
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    if (!mesh.V.row(i).allFinite()) ++r.non_finite_vertices;
+  if (r.non_finite_vertices > 0) {
+    msg << what << " has " << r.non_finite_vertices << " vertices with NaN or Inf coordinates";
+    fatal(r, msg.str());
+    return r;
+  }
+  const Eigen::Index n = mesh.V.rows();
+  std::vector<char> used(static_cast<std::size_t>(n), 0);
+  Eigen::Index firstBad = -1;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int i = mesh.F(f, k);
+      if (i < 0 || i >= n) {
+        ++r.out_of_range_indices;
+        if (firstBad < 0) firstBad = f;
+      } else {
+        used[static_cast<std::size_t>(i)] = 1;
+      }
+    }
+  if (r.out_of_range_indices > 0) {
+    msg << what << " has " << r.out_of_range_indices << " vertex indices out of range [0, " << n
+        << ") (first in face " << firstBad << ")";
+    fatal(r, msg.str());
+    return r;
+  }
+  Eigen::Vector3d lo, hi;
+  boundingBox(mesh, lo, hi);
+  r.extent = (hi - lo).maxCoeff();
+  const double scale = std::max((hi - lo).norm(), 1e-300);
+  const double areaTol = 1e-14 * scale * scale;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+    if (a == b || b == c || a == c) {
+      ++r.degenerate_faces;
+      continue;
+    }
+    const Eigen::Vector3d e1 = mesh.V.row(b) - mesh.V.row(a);
+    const Eigen::Vector3d e2 = mesh.V.row(c) - mesh.V.row(a);
+    if (0.5 * e1.cross(e2).norm() <= areaTol) ++r.degenerate_faces;
+  }
+  // Duplicate faces: the same three vertices in any order (a face and its flipped twin too).
+  {
+    std::vector<std::array<int, 3>> faces(static_cast<std::size_t>(mesh.F.rows()));
+    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+      std::array<int, 3>& t = faces[static_cast<std::size_t>(f)];
+      t = {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)};
+      std::sort(t.begin(), t.end());
+    }
+    std::sort(faces.begin(), faces.end());
+    for (std::size_t i = 1; i < faces.size(); ++i) r.duplicate_faces += faces[i] == faces[i - 1];
+  }
+  // Duplicate vertices: exactly the same position (not joined, so the mesh is split there).
+  {
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+    std::iota(order.begin(), order.end(), Eigen::Index(0));
+    auto less = [&](Eigen::Index a, Eigen::Index b) {
+      for (int k = 0; k < 3; ++k)
+        if (mesh.V(a, k) != mesh.V(b, k)) return mesh.V(a, k) < mesh.V(b, k);
+      return false;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t i = 1; i < order.size(); ++i)
+      r.duplicate_vertices += mesh.V.row(order[i]) == mesh.V.row(order[i - 1]);
+  }
+  r.unused_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+
+  if (r.degenerate_faces > 0)
+    r.warnings.push_back(what + " has " + plural(r.degenerate_faces, "degenerate face", "degenerate faces") +
+                         " (a repeated vertex or zero area)");
+  if (r.duplicate_faces > 0)
+    r.warnings.push_back(what + " has " + plural(r.duplicate_faces, "duplicate face", "duplicate faces") +
+                         " (the same three vertices as another face)");
+  if (r.duplicate_vertices > 0)
+    r.warnings.push_back(what + " has " + plural(r.duplicate_vertices, "duplicate vertex", "duplicate vertices") +
+                         " (the same position as another vertex; faces are not joined there)");
+  if (r.unused_vertices > 0)
+    r.warnings.push_back(what + " has " + plural(r.unused_vertices, "unused vertex", "unused vertices") +
+                         " (in no face)");
+  if (r.extent > kMaxPlausibleExtent)
+    r.warnings.push_back(what + " is " + metres(r.extent) + " m long (the longest side of its bounding box); " +
+                         "coordinates are expected in metres: is it in millimetres?");
+  joinWarnings(r);
+  return r;
+}
+
+MeshValidation validateBody(const TriMesh& mesh, const MeshLimits& limits) {
+  MeshValidation r = validate(mesh, "body", limits);
+  if (!r.ok) return r;
+  const EdgeTopology topo = edgeTopology(mesh);
+  if (topo.boundary_edges > 0)
+    r.warnings.push_back("body is open (" + plural(topo.boundary_edges, "boundary edge", "boundary edges") +
+                         "): garment pieces wholly inside it cannot be detected");
+  if (topo.non_manifold_edges > 0)
+    r.warnings.push_back("body is non-manifold (" +
+                         plural(topo.non_manifold_edges, "edge", "edges") +
+                         " shared by more than two faces): garment pieces wholly inside it cannot be "
+                         "detected");
+  // Pieces: connected components that have faces (unused vertices are counted above).
+  std::vector<int> label;
+  const int components = connectedComponents(mesh, label);
+  std::vector<double> volume(static_cast<std::size_t>(components), 0.0);
+  std::vector<char> hasFace(static_cast<std::size_t>(components), 0);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    const std::size_t piece = static_cast<std::size_t>(label[static_cast<std::size_t>(mesh.F(f, 0))]);
+    volume[piece] += a.dot(b.cross(c)) / 6.0;
+    hasFace[piece] = 1;
+  }
+  const std::size_t pieces = static_cast<std::size_t>(std::count(hasFace.begin(), hasFace.end(), 1));
+  if (pieces > 1)
+    r.warnings.push_back("body has " + std::to_string(pieces) + " separate pieces");
+  if (topo.closed()) {
+    double total = 0;
+    std::size_t inverted = 0;
+    for (std::size_t c = 0; c < volume.size(); ++c) {
+      total += volume[c];
+      inverted += hasFace[c] && volume[c] < 0;
+    }
+    const double tiny = 1e-12 * r.extent * r.extent * r.extent;
+    if (total < -tiny) {
+      fatal(r, "body is inside out: its signed volume is " + metres(total) +
+                   " m^3; faces must be wound counter-clockwise seen from outside (flip every face)");
+      r.warnings.clear();
+      return r;
+    }
+    if (!(total > tiny))
+      r.warnings.push_back("body encloses no volume (signed volume " + metres(total) + " m^3)");
+    else if (inverted > 0)
+      r.warnings.push_back("body has " + plural(inverted, "piece", "pieces") +
+                           " with negative volume (inside out, or a cavity)");
+  }
+  joinWarnings(r);
+  return r;
+}
+
+std::vector<std::string> placementWarnings(const TriMesh& body, const TriMesh& garment) {
+  if (body.V.rows() == 0 || garment.V.rows() == 0) return {};
+  Eigen::Vector3d blo, bhi, glo, ghi;
+  boundingBox(body, blo, bhi);
+  boundingBox(garment, glo, ghi);
+  return placementWarnings(blo, bhi, glo, ghi);
+}
+
+std::vector<std::string> placementWarnings(const Eigen::Vector3d& blo, const Eigen::Vector3d& bhi,
+                                           const Eigen::Vector3d& glo, const Eigen::Vector3d& ghi) {
+  std::vector<std::string> out;
+  if (!blo.allFinite() || !bhi.allFinite() || !glo.allFinite() || !ghi.allFinite()) return out;
+  const Eigen::Vector3d gap = (glo - bhi).cwiseMax(blo - ghi).cwiseMax(0.0);
+  const double distance = gap.norm();
+  const double extent = std::max((bhi - blo).norm(), (ghi - glo).norm());
+  if (distance > extent)
+    out.push_back("garment is " + metres(distance) + " m away from the body (bounding boxes; body " +
+                  metres((bhi - blo).norm()) + " m, garment " + metres((ghi - glo).norm()) +
+                  " m across): they cannot touch; are both in the same frame and units?");
+  return out;
+}
+
+MatrixX3d faceNormals(const TriMesh& mesh) {
+  MatrixX3d N(mesh.F.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0));
+    const Eigen::Vector3d n = (Eigen::Vector3d(mesh.V.row(mesh.F(f, 1))) - a)
+                                  .cross(Eigen::Vector3d(mesh.V.row(mesh.F(f, 2))) - a);
+    const double len = n.norm();
+    N.row(f) = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+  }
+  return N;
+}
+
+MatrixX3d vertexNormals(const TriMesh& mesh) {
+  MatrixX3d N = MatrixX3d::Zero(mesh.V.rows(), 3);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0));
+    const Eigen::Vector3d n = (Eigen::Vector3d(mesh.V.row(mesh.F(f, 1))) - a)
+                                  .cross(Eigen::Vector3d(mesh.V.row(mesh.F(f, 2))) - a);
+    for (int k = 0; k < 3; ++k) N.row(mesh.F(f, k)) += n;  // |n| = 2 * area
+  }
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const double len = N.row(i).norm();
+    if (len > 0) N.row(i) /= len;
+  }
+  return N;
+}
+
+MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges) {
+  const Eigen::Index nf = mesh.F.rows();
+  std::vector<std::pair<std::pair<int, int>, Eigen::Index>> half;  // ((lo, hi), 3f + k)
+  half.reserve(static_cast<std::size_t>(3 * nf));
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
+      half.push_back({{std::min(a, b), std::max(a, b)}, 3 * f + k});
+    }
+  std::sort(half.begin(), half.end());
+  MatrixX2i E(static_cast<Eigen::Index>(half.size()), 2);
+  if (faceEdges) faceEdges->resize(nf, 3);
+  Eigen::Index ne = 0;
+  for (std::size_t i = 0; i < half.size(); ++i) {
+    if (i == 0 || half[i].first != half[i - 1].first) {
+      E(ne, 0) = half[i].first.first;
+      E(ne, 1) = half[i].first.second;
+      ++ne;
+    }
+    if (faceEdges) (*faceEdges)(half[i].second / 3, half[i].second % 3) = static_cast<int>(ne - 1);
+  }
+  E.conservativeResize(ne, 2);
+  return E;
+}
+
+double meanEdgeLength(const TriMesh& mesh) {
+  const MatrixX2i E = uniqueEdges(mesh);
+  if (E.rows() == 0) return 0.0;
+  double sum = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e) sum += (mesh.V.row(E(e, 0)) - mesh.V.row(E(e, 1))).norm();
+  return sum / static_cast<double>(E.rows());
+}
+
+EdgeTopology edgeTopology(const TriMesh& mesh) {
+  MatrixX3i FE;
+  const MatrixX2i E = uniqueEdges(mesh, &FE);
+  std::vector<int> count(static_cast<std::size_t>(E.rows()), 0);
+  for (Eigen::Index f = 0; f < FE.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++count[static_cast<std::size_t>(FE(f, k))];
+  EdgeTopology t;
+  for (int c : count) {
+    if (c == 1) ++t.boundary_edges;
+    if (c > 2) ++t.non_manifold_edges;
+  }
+  return t;
+}
+
+double signedVolume(const TriMesh& mesh) {
+  double v = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    v += a.dot(b.cross(c));
+  }
+  return v / 6.0;
+}
+
+void boundingBox(const TriMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  if (mesh.V.rows() == 0) {
+    lo.setZero();
+    hi.setZero();
+    return;
+  }
+  lo = mesh.V.colwise().minCoeff().transpose();
+  hi = mesh.V.colwise().maxCoeff().transpose();
+}
+
+int connectedComponents(const TriMesh& mesh, std::vector<int>& label) {
+  const int n = static_cast<int>(mesh.V.rows());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = find(mesh.F(f, k)), b = find(mesh.F(f, (k + 1) % 3));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  label.assign(static_cast<std::size_t>(n), -1);
+  int count = 0;
+  std::vector<int> id(static_cast<std::size_t>(n), -1);
+  for (int i = 0; i < n; ++i) {
+    const int r = find(i);
+    if (id[r] < 0) id[r] = count++;
+    label[i] = id[r];
+  }
+  return count;
+}
+
+}  // namespace virtual_tryon

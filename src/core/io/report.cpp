@@ -1,0 +1,77 @@
+#include "virtual_tryon/core/io/report.h"
+
+#include "virtual_tryon/core/io/json_object.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace virtual_tryon {
+
+using json::Obj;
+
+std::string toJson(const ResolverReport& r) {
+  return Obj()
+      .add("converged", r.converged)
+      .add("reason", r.reason)
+      .add("iterations", r.iterations)
+      .add("garment_edge_crossings_before", r.garment_edge_crossings_before)
+      .add("body_edge_crossings_before", r.body_edge_crossings_before)
+      .add("garment_edge_crossings_after", r.garment_edge_crossings_after)
+      .add("body_edge_crossings_after", r.body_edge_crossings_after)
+      .add("illegal_vertices", r.illegal_vertices)
+      .add("impact_zones", r.impact_zones)
+      .add("infeasible_zones", r.infeasible_zones)
+      .add("body_closed", r.body_closed)
+      .add("vertices_inside_before", r.vertices_inside_before)
+      .add("vertices_inside_after", r.vertices_inside_after)
+      .add("moved_vertices", r.moved_vertices)
+      .add("clearance_m", r.clearance)
+      .add("mean_displacement_m", r.mean_displacement)
+      .add("max_displacement_m", r.max_displacement)
+      .add("time_budget_spent", r.time_budget_spent)
+      .add("max_condition_estimate", r.max_condition_estimate)
+      .add("seconds_detection", r.seconds_detection)
+      .add("seconds_solve", r.seconds_solve)
+      .add("seconds_total", r.seconds_total)
+      .str();
+}
+
+std::string toJson(const DrapeResult& r) {
+  return Obj()
+      .add("success", r.success)
+      .add("converged", r.converged)
+      .add("cancelled", r.cancelled)
+      .add("message", r.message)
+      .add("warnings", r.warnings)
+      .add("vertices", r.vertices)
+      .add("triangles", r.triangles)
+      .add("iterations", r.iterations)
+      .add("sew_iterations", r.sew_iterations)
+      .add("dt_s", r.dt)
+      .add("dt_bound_s", r.dt_bound)
+      .add("dt_bound_paper_s", r.dt_bound_paper)
+      .add("map_size", r.map_size)
+      .add("seconds_setup", r.seconds_setup)
+      .add("seconds_simulation", r.seconds_simulation)
+      .add("seconds_per_iteration", r.seconds_per_iteration)
+      .add("seconds_resolve", r.seconds_resolve)
+      .add("seconds_total", r.seconds_total)
+      .add("seams_total", r.seams_total)
+      .add("seams_open", r.seams_open)
+      .add("seam_gap_max_m", r.seam_gap_max)
+      .add("seam_gap_mean_m", r.seam_gap_mean)
+      .add("strain_max", r.strain_max)
+      .add("strain_mean", r.strain_mean)
+      .add("max_speed_m_per_s", r.max_speed)
+      .add("kinetic_energy_j", r.kinetic_energy)
+      .add("penetrating_before_resolve", r.penetrating_before_resolve)
+      .add("penetrating_after", r.penetrating_after)
+      .add("resolver_run", r.resolver_run)
+      .json("resolver", r.resolver_run ? toJson(r.resolver) : std::string("null"))
+      .str();
+}
+
+}  // namespace virtual_tryon
