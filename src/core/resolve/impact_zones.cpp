@@ -10,6 +10,7 @@
 #include <limits>
 #include <numeric>
 #include <unordered_map>
+#include <utility>
 
 namespace virtual_tryon {
 
@@ -69,179 +70,239 @@ double gradientDot(const Stencil& a, const Stencil& b) {
 
 }  // namespace
 
-ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
-                             double d) {
-  ZoneSolution sol;
-  const int k = static_cast<int>(zone.size());
-  // Local vertex numbering; loc[i][j] is stencil i's j-th vertex.
-  std::unordered_map<int, int> local;
-  std::vector<std::array<int, 3>> loc(static_cast<std::size_t>(k));
-  for (int i = 0; i < k; ++i) {
-    const Stencil& s = stencils[zone[i]];
-    for (int j = 0; j < s.count; ++j) {
-      auto it = local.emplace(s.vertex[j], static_cast<int>(sol.vertices.size()));
-      if (it.second) sol.vertices.push_back(s.vertex[j]);
-      loc[i][j] = it.first->second;
-    }
+namespace {
+
+// One zone's system, A lambda = b with A = Dx^T Dx and b = d - D, and its solve in stages: the
+// exact active-set solve (small zones), Hildreth's sweeps (large zones, or when the exact answer
+// is infeasible or too large), and the final displacement and feasibility check.
+class ZoneSystem {
+ public:
+  ZoneSystem(const std::vector<Stencil>& stencils, const std::vector<int>& zone, double d)
+      : stencils_(stencils),
+        zone_(zone),
+        d_(d),
+        k_(static_cast<int>(zone.size())),
+        loc_(static_cast<std::size_t>(k_)),
+        A_(k_, k_),
+        b_(k_),
+        tol_(1e-9 + 1e-6 * std::max(d, 0.0)),
+        lambda_(Eigen::VectorXd::Zero(k_)) {
+    numberVertices();
+    assemble();
   }
-  // A = Dx^T Dx, assembled only where stencils share a vertex.
-  std::vector<std::vector<int>> byVertex(sol.vertices.size());
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < stencils[zone[i]].count; ++j) byVertex[loc[i][j]].push_back(i);
-  std::vector<Eigen::Triplet<double>> trip;
-  for (const auto& list : byVertex)
-    for (int a : list)
-      for (int b : list) trip.emplace_back(a, b, 0.0);  // structure; values below
-  Eigen::SparseMatrix<double> A(k, k);
-  A.setFromTriplets(trip.begin(), trip.end(), [](double x, double) { return x; });
-  double maxDiag = 0;
-  for (int c = 0; c < A.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
-      it.valueRef() = gradientDot(stencils[zone[it.row()]], stencils[zone[it.col()]]);
-      if (it.row() == it.col()) maxDiag = std::max(maxDiag, it.value());
-    }
-  const Eigen::VectorXd diag = A.diagonal();
-  const double eps = 1e-10 * std::max(maxDiag, 1e-300);
-  Eigen::VectorXd b(k);
-  for (int i = 0; i < k; ++i) b[i] = d - stencils[zone[i]].D;
-  const double tol = 1e-9 + 1e-6 * std::max(d, 0.0);
-  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(k);
 
-  // Exact active-set solve of the KKT system (small zones).
-  auto activeSet = [&]() -> bool {
-    std::vector<char> active(static_cast<std::size_t>(k), 1);
-    for (int round = 0; round < kMaxActiveSetRounds; ++round) {
-      sol.active_set_rounds = round + 1;
-      std::vector<int> idx, pos(static_cast<std::size_t>(k), -1);
-      for (int i = 0; i < k; ++i)
-        if (active[i]) {
-          pos[i] = static_cast<int>(idx.size());
-          idx.push_back(i);
-        }
-      lambda.setZero();
-      if (!idx.empty()) {
-        const int m = static_cast<int>(idx.size());
-        std::vector<Eigen::Triplet<double>> t;
-        for (int c = 0; c < A.outerSize(); ++c) {
-          if (pos[c] < 0) continue;
-          for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it)
-            if (pos[it.row()] >= 0) t.emplace_back(pos[it.row()], pos[c], it.value());
-        }
-        for (int i = 0; i < m; ++i) t.emplace_back(i, i, eps);
-        Eigen::SparseMatrix<double> As(m, m);
-        As.setFromTriplets(t.begin(), t.end());
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(As);
-        if (ldlt.info() != Eigen::Success) return false;
-        Eigen::VectorXd bs(m);
-        for (int i = 0; i < m; ++i) bs[i] = b[idx[i]];
-        Eigen::VectorXd ls = ldlt.solve(bs);
-        // Iterative refinement against the unregularized matrix removes the Tikhonov bias
-        // wherever the system is not singular.
-        for (int r = 0; r < 2; ++r) ls += ldlt.solve(Eigen::VectorXd(bs - As * ls + eps * ls));
-        const Eigen::VectorXd piv = ldlt.vectorD().cwiseAbs();
-        sol.condition_estimate = piv.maxCoeff() / std::max(piv.minCoeff(), 1e-300);
-        for (int i = 0; i < m; ++i) lambda[idx[i]] = ls[i];
-      }
-      // Drop every stencil whose multiplier went negative (it would pull its vertices inward)...
-      bool dropped = false;
-      for (int i = 0; i < k; ++i)
-        if (active[i] && lambda[i] < -1e-15 * (1.0 + std::abs(b[i]))) {
-          active[i] = 0;
-          dropped = true;
-        }
-      if (dropped) continue;
-      // ...and re-add every inactive one the others leave violated.
-      const Eigen::VectorXd g = A * lambda;  // Dx^T dx
-      bool added = false;
-      for (int i = 0; i < k; ++i)
-        if (!active[i] && b[i] - g[i] > tol) {
-          active[i] = 1;
-          added = true;
-        }
-      if (!added) return true;
-    }
-    return false;
-  };
+  ZoneSolution solve();
 
-  // Hildreth's method: projected Gauss-Seidel on the dual, carried out in displacement space. Each
-  // step projects dx onto one stencil's half-space without letting its lambda go negative, and
-  // moves by at most the violation it removes, so dx stays bounded even when constraints
-  // contradict. Cheap per step; an approximate answer is enough, the resolver detects again.
-  auto hildreth = [&]() {
-    lambda.setZero();
-    std::vector<Eigen::Vector3d> dx(sol.vertices.size(), Eigen::Vector3d::Zero());
-    const double stopTol = 1e-4 * std::max(d, 1e-12);
-    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
-      double worst = 0;
-      for (int i = 0; i < k; ++i) {
-        const Stencil& s = stencils[zone[i]];
-        if (!(diag[i] > 0)) continue;
-        double gdx = 0;
-        for (int j = 0; j < s.count; ++j) gdx += s.weight[j] * s.normal.dot(dx[loc[i][j]]);
-        const double r = b[i] - gdx;  // > 0: violated
-        worst = std::max(worst, r);
-        const double step = std::max(-lambda[i], r / diag[i]);
-        if (step == 0) continue;
-        lambda[i] += step;
-        for (int j = 0; j < s.count; ++j) dx[loc[i][j]] += step * s.weight[j] * s.normal;
-      }
-      sol.sweeps = sweep + 1;
-      if (worst <= stopTol) break;
-    }
-  };
+ private:
+  void numberVertices();
+  void assemble();
+  double displacementCap() const;
+  bool activeSet();
+  bool solveActive(const std::vector<char>& active);
+  void hildreth();
+  void finish();
 
-  // dx = Dx lambda, the violations left, and feasibility.
-  double largest = 0;
-  auto finish = [&]() {
-    for (int i = 0; i < k; ++i) lambda[i] = std::max(lambda[i], 0.0);
-    sol.displacement.assign(sol.vertices.size(), Eigen::Vector3d::Zero());
-    for (int i = 0; i < k; ++i) {
-      const Stencil& s = stencils[zone[i]];
-      for (int j = 0; j < s.count; ++j) sol.displacement[loc[i][j]] += lambda[i] * s.weight[j] * s.normal;
-    }
-    const Eigen::VectorXd g = A * lambda;
-    sol.max_violation = 0;
-    for (int i = 0; i < k; ++i) sol.max_violation = std::max(sol.max_violation, b[i] - g[i]);
-    bool finite = lambda.allFinite();
-    largest = 0;
-    for (const auto& v : sol.displacement) {
-      finite = finite && v.allFinite();
-      largest = std::max(largest, v.norm());
-    }
-    if (!finite) {
-      lambda.setZero();
-      for (auto& v : sol.displacement) v.setZero();
-      sol.max_violation = b.maxCoeff();
-      largest = 0;
-    }
-    sol.feasible = finite && sol.max_violation <= std::max(tol, 1e-3 * std::max(d, 0.0));
-  };
+  const std::vector<Stencil>& stencils_;
+  const std::vector<int>& zone_;
+  const double d_;
+  const int k_;
+  ZoneSolution sol_;
+  std::vector<std::array<int, 3>> loc_;  // loc_[i][j]: local number of stencil i's j-th vertex
+  Eigen::SparseMatrix<double> A_;
+  Eigen::VectorXd diag_;
+  double eps_ = 0;  // the Tikhonov term
+  Eigen::VectorXd b_;
+  const double tol_;
+  Eigen::VectorXd lambda_;
+  double largest_ = 0;  // the largest vertex displacement of the last finish()
+};
 
+ZoneSolution ZoneSystem::solve() {
   // The largest displacement a single stencil of the zone asks for on its own; an answer far
   // beyond it comes from contradicting or nearly parallel stencils.
-  double cap = 0;
-  for (int i = 0; i < k; ++i)
-    if (diag[i] > 0) cap = std::max(cap, b[i] / diag[i]);
-  cap = 4.0 * cap + std::max(d, 0.0);
+  const double cap = displacementCap();
 
-  const bool direct = k <= kDirectMaxStencils;
+  const bool direct = k_ <= kDirectMaxStencils;
   bool solved = direct && activeSet();
   if (solved) {
     finish();
-    solved = sol.feasible && largest <= cap;  // else: contradicting stencils, use the bounded method
+    solved = sol_.feasible && largest_ <= cap;  // else: contradicting stencils, use the bounded method
   }
   if (!solved) {
     hildreth();
     finish();
   }
-  if (largest > cap) {
-    const double scale = cap / largest;
-    for (auto& v : sol.displacement) v *= scale;
-    lambda *= scale;
-    sol.feasible = false;
+  if (largest_ > cap) {
+    const double scale = cap / largest_;
+    for (auto& v : sol_.displacement) v *= scale;
+    lambda_ *= scale;
+    sol_.feasible = false;
   }
-  sol.lambda.assign(lambda.data(), lambda.data() + k);
-  return sol;
+  sol_.lambda.assign(lambda_.data(), lambda_.data() + k_);
+  return std::move(sol_);
+}
+
+// Local vertex numbering; loc_[i][j] is stencil i's j-th vertex.
+void ZoneSystem::numberVertices() {
+  std::unordered_map<int, int> local;
+  for (int i = 0; i < k_; ++i) {
+    const Stencil& s = stencils_[zone_[i]];
+    for (int j = 0; j < s.count; ++j) {
+      auto it = local.emplace(s.vertex[j], static_cast<int>(sol_.vertices.size()));
+      if (it.second) sol_.vertices.push_back(s.vertex[j]);
+      loc_[i][j] = it.first->second;
+    }
+  }
+}
+
+// A = Dx^T Dx, assembled only where stencils share a vertex; its diagonal, eps and b.
+void ZoneSystem::assemble() {
+  std::vector<std::vector<int>> byVertex(sol_.vertices.size());
+  for (int i = 0; i < k_; ++i)
+    for (int j = 0; j < stencils_[zone_[i]].count; ++j) byVertex[loc_[i][j]].push_back(i);
+  std::vector<Eigen::Triplet<double>> trip;
+  for (const auto& list : byVertex)
+    for (int a : list)
+      for (int b : list) trip.emplace_back(a, b, 0.0);  // structure; values below
+  A_.setFromTriplets(trip.begin(), trip.end(), [](double x, double) { return x; });
+  double maxDiag = 0;
+  for (int c = 0; c < A_.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A_, c); it; ++it) {
+      it.valueRef() = gradientDot(stencils_[zone_[it.row()]], stencils_[zone_[it.col()]]);
+      if (it.row() == it.col()) maxDiag = std::max(maxDiag, it.value());
+    }
+  diag_ = A_.diagonal();
+  eps_ = 1e-10 * std::max(maxDiag, 1e-300);
+  for (int i = 0; i < k_; ++i) b_[i] = d_ - stencils_[zone_[i]].D;
+}
+
+double ZoneSystem::displacementCap() const {
+  double cap = 0;
+  for (int i = 0; i < k_; ++i)
+    if (diag_[i] > 0) cap = std::max(cap, b_[i] / diag_[i]);
+  return 4.0 * cap + std::max(d_, 0.0);
+}
+
+// Exact active-set solve of the KKT system (small zones).
+bool ZoneSystem::activeSet() {
+  std::vector<char> active(static_cast<std::size_t>(k_), 1);
+  for (int round = 0; round < kMaxActiveSetRounds; ++round) {
+    sol_.active_set_rounds = round + 1;
+    if (!solveActive(active)) return false;
+    // Drop every stencil whose multiplier went negative (it would pull its vertices inward)...
+    bool dropped = false;
+    for (int i = 0; i < k_; ++i)
+      if (active[i] && lambda_[i] < -1e-15 * (1.0 + std::abs(b_[i]))) {
+        active[i] = 0;
+        dropped = true;
+      }
+    if (dropped) continue;
+    // ...and re-add every inactive one the others leave violated.
+    const Eigen::VectorXd g = A_ * lambda_;  // Dx^T dx
+    bool added = false;
+    for (int i = 0; i < k_; ++i)
+      if (!active[i] && b_[i] - g[i] > tol_) {
+        active[i] = 1;
+        added = true;
+      }
+    if (!added) return true;
+  }
+  return false;
+}
+
+// lambda with the stencils in `active` met as equalities and the others at 0: A restricted to the
+// active set plus eps I, factorized; false when the factorization fails.
+bool ZoneSystem::solveActive(const std::vector<char>& active) {
+  std::vector<int> idx, pos(static_cast<std::size_t>(k_), -1);
+  for (int i = 0; i < k_; ++i)
+    if (active[i]) {
+      pos[i] = static_cast<int>(idx.size());
+      idx.push_back(i);
+    }
+  lambda_.setZero();
+  if (idx.empty()) return true;
+  const int m = static_cast<int>(idx.size());
+  std::vector<Eigen::Triplet<double>> t;
+  for (int c = 0; c < A_.outerSize(); ++c) {
+    if (pos[c] < 0) continue;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A_, c); it; ++it)
+      if (pos[it.row()] >= 0) t.emplace_back(pos[it.row()], pos[c], it.value());
+  }
+  for (int i = 0; i < m; ++i) t.emplace_back(i, i, eps_);
+  Eigen::SparseMatrix<double> As(m, m);
+  As.setFromTriplets(t.begin(), t.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(As);
+  if (ldlt.info() != Eigen::Success) return false;
+  Eigen::VectorXd bs(m);
+  for (int i = 0; i < m; ++i) bs[i] = b_[idx[i]];
+  Eigen::VectorXd ls = ldlt.solve(bs);
+  // Iterative refinement against the unregularized matrix removes the Tikhonov bias
+  // wherever the system is not singular.
+  for (int r = 0; r < 2; ++r) ls += ldlt.solve(Eigen::VectorXd(bs - As * ls + eps_ * ls));
+  const Eigen::VectorXd piv = ldlt.vectorD().cwiseAbs();
+  sol_.condition_estimate = piv.maxCoeff() / std::max(piv.minCoeff(), 1e-300);
+  for (int i = 0; i < m; ++i) lambda_[idx[i]] = ls[i];
+  return true;
+}
+
+// Hildreth's method: projected Gauss-Seidel on the dual, carried out in displacement space. Each
+// step projects dx onto one stencil's half-space without letting its lambda go negative, and
+// moves by at most the violation it removes, so dx stays bounded even when constraints
+// contradict. Cheap per step; an approximate answer is enough, the resolver detects again.
+void ZoneSystem::hildreth() {
+  lambda_.setZero();
+  std::vector<Eigen::Vector3d> dx(sol_.vertices.size(), Eigen::Vector3d::Zero());
+  const double stopTol = 1e-4 * std::max(d_, 1e-12);
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    double worst = 0;
+    for (int i = 0; i < k_; ++i) {
+      const Stencil& s = stencils_[zone_[i]];
+      if (!(diag_[i] > 0)) continue;
+      double gdx = 0;
+      for (int j = 0; j < s.count; ++j) gdx += s.weight[j] * s.normal.dot(dx[loc_[i][j]]);
+      const double r = b_[i] - gdx;  // > 0: violated
+      worst = std::max(worst, r);
+      const double step = std::max(-lambda_[i], r / diag_[i]);
+      if (step == 0) continue;
+      lambda_[i] += step;
+      for (int j = 0; j < s.count; ++j) dx[loc_[i][j]] += step * s.weight[j] * s.normal;
+    }
+    sol_.sweeps = sweep + 1;
+    if (worst <= stopTol) break;
+  }
+}
+
+// dx = Dx lambda, the violations left, and feasibility.
+void ZoneSystem::finish() {
+  for (int i = 0; i < k_; ++i) lambda_[i] = std::max(lambda_[i], 0.0);
+  sol_.displacement.assign(sol_.vertices.size(), Eigen::Vector3d::Zero());
+  for (int i = 0; i < k_; ++i) {
+    const Stencil& s = stencils_[zone_[i]];
+    for (int j = 0; j < s.count; ++j) sol_.displacement[loc_[i][j]] += lambda_[i] * s.weight[j] * s.normal;
+  }
+  const Eigen::VectorXd g = A_ * lambda_;
+  sol_.max_violation = 0;
+  for (int i = 0; i < k_; ++i) sol_.max_violation = std::max(sol_.max_violation, b_[i] - g[i]);
+  bool finite = lambda_.allFinite();
+  largest_ = 0;
+  for (const auto& v : sol_.displacement) {
+    finite = finite && v.allFinite();
+    largest_ = std::max(largest_, v.norm());
+  }
+  if (!finite) {
+    lambda_.setZero();
+    for (auto& v : sol_.displacement) v.setZero();
+    sol_.max_violation = b_.maxCoeff();
+    largest_ = 0;
+  }
+  sol_.feasible = finite && sol_.max_violation <= std::max(tol_, 1e-3 * std::max(d_, 0.0));
+}
+
+}  // namespace
+
+ZoneSolution solveImpactZone(const std::vector<Stencil>& stencils, const std::vector<int>& zone,
+                             double d) {
+  return ZoneSystem(stencils, zone, d).solve();
 }
 
 ZoneSolution projectStencilsIndependently(const std::vector<Stencil>& stencils, double d) {
