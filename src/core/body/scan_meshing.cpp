@@ -109,20 +109,18 @@ void estimateNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector
   }
 }
 
-// Orients the normals consistently and outward: Prim's minimum spanning tree over the graph with
-// weights 1 - |ni . nj|, one tree per connected component, seeded at the point farthest from the
-// component's bounding-box centre (its normal must point away from that centre); each point takes
-// the sign that agrees with its tree parent. Returns the number of normals flipped; `components`
-// receives the number of trees.
-std::size_t orientNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph& g, std::size_t& components) {
+// The connected components of the graph (breadth-first, from the lowest index not yet reached) and
+// one seed per component, the point farthest from the centre of the component's bounding box (the
+// first such in breadth-first order), its normal turned to point away from that centre. Counts the
+// normals turned in `flipped`.
+std::vector<std::size_t> componentSeeds(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph& g,
+                                        std::size_t& flipped) {
   const std::size_t n = cloud.size();
   auto normal = [&](std::size_t i) { return cloud[i].getNormalVector3fMap(); };
-  // Components (breadth-first), their boxes and seeds.
   std::vector<int> comp(n, -1);
   std::vector<int> order;
   order.reserve(n);
   std::vector<std::size_t> seeds;
-  std::size_t flipped = 0;
   for (std::size_t s = 0; s < n; ++s) {
     if (comp[s] >= 0) continue;
     const int c = static_cast<int>(seeds.size());
@@ -156,9 +154,17 @@ std::size_t orientNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph&
     }
     seeds.push_back(seed);
   }
-  components = seeds.size();
+  return seeds;
+}
 
-  // Prim, with a best-known weight per point so that each point is pushed only when its key drops.
+// Grows Prim's minimum spanning tree (weights 1 - |ni . nj|) from each seed in turn, each point taking
+// the sign that agrees with its tree parent; returns the number of normals flipped. A best-known
+// weight per point means each point is pushed only when its key drops.
+std::size_t propagateSigns(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph& g,
+                           const std::vector<std::size_t>& seeds) {
+  const std::size_t n = cloud.size();
+  auto normal = [&](std::size_t i) { return cloud[i].getNormalVector3fMap(); };
+  std::size_t flipped = 0;
   std::vector<float> key(n, std::numeric_limits<float>::infinity());
   std::vector<int> parent(n, -1);
   std::vector<char> done(n, 0);
@@ -191,6 +197,18 @@ std::size_t orientNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph&
     }
   }
   return flipped;
+}
+
+// Orients the normals consistently and outward: Prim's minimum spanning tree over the graph with
+// weights 1 - |ni . nj|, one tree per connected component, seeded at the point farthest from the
+// component's bounding-box centre (its normal must point away from that centre); each point takes
+// the sign that agrees with its tree parent. Returns the number of normals flipped; `components`
+// receives the number of trees.
+std::size_t orientNormals(pcl::PointCloud<pcl::PointNormal>& cloud, const Graph& g, std::size_t& components) {
+  std::size_t flipped = 0;
+  const std::vector<std::size_t> seeds = componentSeeds(cloud, g, flipped);
+  components = seeds.size();
+  return flipped + propagateSigns(cloud, g, seeds);
 }
 
 // Removes vertices no face uses (indices remapped).
@@ -269,12 +287,8 @@ std::size_t removeCavities(TriMesh& m) {
   return removed;
 }
 
-}  // namespace
-
-std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
-  if (facesAdded) *facesAdded = 0;
-  if (maxEdges < 3) return 0;
-  // Boundary half-edges (a -> b as wound in their only face).
+// The boundary edges of `m` (a -> b as wound in their only face), sorted.
+std::vector<std::pair<int, int>> boundaryEdges(const TriMesh& m) {
   std::vector<std::pair<std::pair<int, int>, int>> half;  // ((lo, hi), a) per face corner edge
   half.reserve(static_cast<std::size_t>(3 * m.F.rows()));
   for (Eigen::Index f = 0; f < m.F.rows(); ++f)
@@ -294,17 +308,28 @@ std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
     }
     i = j;
   }
-  if (boundary.empty()) return 0;
   std::sort(boundary.begin(), boundary.end());
+  return boundary;
+}
+
+// The first boundary edge leaving v that is not used yet (its index in the sorted `boundary`), or -1.
+std::ptrdiff_t nextUnused(const std::vector<std::pair<int, int>>& boundary, const std::vector<char>& used,
+                          int v) {
+  auto it =
+      std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, std::numeric_limits<int>::min()));
+  for (; it != boundary.end() && it->first == v; ++it)
+    if (!used[static_cast<std::size_t>(it - boundary.begin())]) return it - boundary.begin();
+  return -1;
+}
+
+// Chains the boundary edges into loops: a path walks on from each unused edge, and whenever it comes
+// back to one of its vertices the loop closed there is cut off (so a loop that passes a vertex twice
+// is split there); what is left of a path that dead-ends is not a loop.
+std::vector<std::vector<int>> boundaryLoops(const std::vector<std::pair<int, int>>& boundary,
+                                            Eigen::Index vertices) {
   std::vector<char> used(boundary.size(), 0);
-  auto nextFrom = [&](int v) -> std::ptrdiff_t {
-    auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, std::numeric_limits<int>::min()));
-    for (; it != boundary.end() && it->first == v; ++it)
-      if (!used[static_cast<std::size_t>(it - boundary.begin())]) return it - boundary.begin();
-    return -1;
-  };
   std::vector<std::vector<int>> loops;
-  std::vector<int> pos(static_cast<std::size_t>(m.V.rows()), -1);  // index in the current path
+  std::vector<int> pos(static_cast<std::size_t>(vertices), -1);  // index in the current path
   for (std::size_t s = 0; s < boundary.size(); ++s) {
     if (used[s]) continue;
     std::vector<int> path{boundary[s].first};
@@ -322,13 +347,21 @@ std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
         pos[static_cast<std::size_t>(v)] = static_cast<int>(path.size());
         path.push_back(v);
       }
-      const std::ptrdiff_t e = nextFrom(v);
+      const std::ptrdiff_t e = nextUnused(boundary, used, v);
       if (e < 0) break;  // path closed and nothing leaves v, or a dead end (left open)
       used[static_cast<std::size_t>(e)] = 1;
       v = boundary[static_cast<std::size_t>(e)].second;
     }
     for (int x : path) pos[static_cast<std::size_t>(x)] = -1;
   }
+  return loops;
+}
+
+// Closes the loops of 3 .. maxEdges edges: a triangle, or a fan round a new vertex at the centroid,
+// wound to match the faces around the loop (so opposite to the loop, which follows their boundary
+// edges). Returns how many.
+std::size_t fillLoops(TriMesh& m, const std::vector<std::vector<int>>& loops, int maxEdges,
+                      std::size_t* facesAdded) {
   std::vector<Eigen::Vector3d> newV;
   std::vector<Eigen::Vector3i> newF;
   std::size_t filled = 0;
@@ -344,16 +377,29 @@ std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
     for (int v : loop) c += m.V.row(v).transpose();
     const int ci = static_cast<int>(m.V.rows() + static_cast<Eigen::Index>(newV.size()));
     newV.push_back(c / n);
-    for (int j = 0; j < n; ++j) newF.emplace_back(loop[static_cast<std::size_t>((j + 1) % n)], loop[static_cast<std::size_t>(j)], ci);
+    for (int j = 0; j < n; ++j)
+      newF.emplace_back(loop[static_cast<std::size_t>((j + 1) % n)], loop[static_cast<std::size_t>(j)], ci);
   }
   if (newF.empty()) return filled;
   const Eigen::Index v0 = m.V.rows(), f0 = m.F.rows();
   m.V.conservativeResize(v0 + static_cast<Eigen::Index>(newV.size()), 3);
-  for (std::size_t i = 0; i < newV.size(); ++i) m.V.row(v0 + static_cast<Eigen::Index>(i)) = newV[i].transpose();
+  for (std::size_t i = 0; i < newV.size(); ++i)
+    m.V.row(v0 + static_cast<Eigen::Index>(i)) = newV[i].transpose();
   m.F.conservativeResize(f0 + static_cast<Eigen::Index>(newF.size()), 3);
-  for (std::size_t i = 0; i < newF.size(); ++i) m.F.row(f0 + static_cast<Eigen::Index>(i)) = newF[i].transpose();
+  for (std::size_t i = 0; i < newF.size(); ++i)
+    m.F.row(f0 + static_cast<Eigen::Index>(i)) = newF[i].transpose();
   if (facesAdded) *facesAdded = newF.size();
   return filled;
+}
+
+}  // namespace
+
+std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
+  if (facesAdded) *facesAdded = 0;
+  if (maxEdges < 3) return 0;
+  const std::vector<std::pair<int, int>> boundary = boundaryEdges(m);
+  if (boundary.empty()) return 0;
+  return fillLoops(m, boundaryLoops(boundary, m.V.rows()), maxEdges, facesAdded);
 }
 
 std::string validateScanMeshingParams(const ScanMeshingParams& p) {
@@ -378,6 +424,239 @@ std::string validateScanMeshingParams(const ScanMeshingParams& p) {
   return "";
 }
 
+namespace {
+
+// The parameters and the shape of the input; returns the first problem, or "" when meshScan may go on.
+std::string checkInput(const MatrixX3d& points, const MatrixX3d& normals, const ScanMeshingParams& params) {
+  const std::string bad = validateScanMeshingParams(params);
+  if (!bad.empty()) return bad;
+  if (points.rows() == 0) return "scan has no points";
+  if (normals.rows() > 0 && normals.rows() != points.rows())
+    return "normals must be empty or one per point: " + std::to_string(normals.rows()) + " normals for " +
+           std::to_string(points.rows()) + " points";
+  return "";
+}
+
+// 1. The finite points, with their normals normalised when given (else +z, a placeholder); a point
+// whose normal is not finite or zero, or that is out of float range, is dropped too.
+pcl::PointCloud<pcl::PointNormal>::Ptr finitePoints(const MatrixX3d& points, const MatrixX3d& normals) {
+  const bool haveNormals = normals.rows() > 0;
+  pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
+  cloud->reserve(static_cast<std::size_t>(points.rows()));
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    if (!points.row(i).allFinite()) continue;
+    Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+    if (haveNormals) {
+      n = normals.row(i).transpose();
+      const double len = n.norm();
+      if (!std::isfinite(len) || len == 0) continue;
+      n /= len;
+    }
+    pcl::PointNormal p;
+    p.x = static_cast<float>(points(i, 0)), p.y = static_cast<float>(points(i, 1));
+    p.z = static_cast<float>(points(i, 2));
+    p.normal_x = static_cast<float>(n.x()), p.normal_y = static_cast<float>(n.y());
+    p.normal_z = static_cast<float>(n.z());
+    p.curvature = 0;
+    if (!p.getVector3fMap().allFinite()) continue;  // finite double, but out of float range
+    cloud->push_back(p);
+  }
+  return cloud;
+}
+
+// 2. The voxel count as pcl::VoxelGrid computes it; beyond int32 it warns and returns the input, so
+// such a grid is refused: returns why, or "" when the grid fits.
+std::string voxelGridTooFine(const pcl::PointCloud<pcl::PointNormal>& cloud, double voxelSize) {
+  Eigen::Vector4f lo, hi;
+  pcl::getMinMax3D(cloud, lo, hi);
+  const double inv = 1.0 / static_cast<float>(voxelSize);
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) cells *= std::floor(hi[a] * inv) - std::floor(lo[a] * inv) + 1;
+  if (cells > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+    return "voxel_size " + num(voxelSize) + " m is too small for a scan of " + num(hi.x() - lo.x()) + " x " +
+           num(hi.y() - lo.y()) + " x " + num(hi.z() - lo.z()) + " m (more than 2^31 voxels, PCL's limit)";
+  return "";
+}
+
+// 2. The voxel grid: one point per occupied voxel, the mean. Averaged given normals are renormalised;
+// a voxel whose normals cancel out is dropped.
+pcl::PointCloud<pcl::PointNormal>::Ptr downsample(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud,
+                                                  double voxelSize) {
+  pcl::VoxelGrid<pcl::PointNormal> grid;
+  grid.setInputCloud(cloud);
+  const float leaf = static_cast<float>(voxelSize);
+  grid.setLeafSize(leaf, leaf, leaf);
+  pcl::PointCloud<pcl::PointNormal>::Ptr down(new pcl::PointCloud<pcl::PointNormal>);
+  grid.filter(*down);
+  pcl::PointCloud<pcl::PointNormal>::Ptr kept(new pcl::PointCloud<pcl::PointNormal>);
+  kept->reserve(down->size());
+  for (pcl::PointNormal p : *down) {
+    const float len = p.getNormalVector3fMap().norm();
+    if (!(len > 1e-3f)) continue;
+    p.getNormalVector3fMap() /= len;
+    kept->push_back(p);
+  }
+  return kept;
+}
+
+// 1-2. The points meshScan works on, in `cloud`: the finite ones, downsampled (seconds_downsample
+// covers both). Returns why there are too few, or "".
+std::string preparePoints(const MatrixX3d& points, const MatrixX3d& normals, const ScanMeshingParams& params,
+                          pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, ScanMeshingResult& r) {
+  const auto t0 = Clock::now();
+  cloud = finitePoints(points, normals);
+  r.non_finite_points = r.input_points - cloud->size();
+  if (cloud->size() < params.min_points) {
+    r.seconds_downsample = since(t0);
+    return "too few valid points: " + std::to_string(cloud->size()) + " of " +
+           std::to_string(r.input_points) + " (" + std::to_string(r.non_finite_points) + " non-finite" +
+           (normals.rows() > 0 ? " or with a bad normal" : "") +
+           "), min_points = " + std::to_string(params.min_points);
+  }
+  if (params.voxel_size > 0) {
+    const std::string tooFine = voxelGridTooFine(*cloud, params.voxel_size);
+    if (!tooFine.empty()) return tooFine;
+    cloud = downsample(cloud, params.voxel_size);
+  }
+  r.points_after_downsampling = cloud->size();
+  r.seconds_downsample = since(t0);
+  if (cloud->size() < params.min_points)
+    return "too few points after downsampling: " + std::to_string(cloud->size()) + " (voxel_size " +
+           num(params.voxel_size) + " m), min_points = " + std::to_string(params.min_points);
+  return "";
+}
+
+// The fraction of the kNN edges whose normals point opposite ways (dot < 0); 0 without edges.
+double normalDisagreement(const pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<int>& knn,
+                          int k) {
+  std::size_t edges = 0, disagree = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    for (int m = 0; m < k; ++m) {
+      const int j = knn[i * static_cast<std::size_t>(k) + m];
+      if (j < 0) continue;
+      ++edges;
+      if (cloud[i].getNormalVector3fMap().dot(cloud[static_cast<std::size_t>(j)].getNormalVector3fMap()) < 0)
+        ++disagree;
+    }
+  return edges > 0 ? static_cast<double>(disagree) / static_cast<double>(edges) : 0.0;
+}
+
+// 3. The k nearest neighbours of every point (into `knn`), then the normals estimated when none are
+// given, or the given ones tested for consistency (seconds_normals). Returns whether the normals
+// need orienting.
+bool prepareNormals(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, bool haveNormals,
+                    const ScanMeshingParams& params, std::vector<int>& knn, ScanMeshingResult& r) {
+  const auto t0 = Clock::now();
+  const int k = params.normal_neighbours;
+  knn = nearestNeighbours(cloud, k);
+  bool orient = true;
+  if (!haveNormals) {
+    estimateNormals(*cloud, knn, k);
+    r.normals_estimated = true;
+  } else {
+    r.normal_disagreement = normalDisagreement(*cloud, knn, k);
+    orient = r.normal_disagreement > params.max_normal_disagreement;
+  }
+  r.seconds_normals = since(t0);
+  return orient;
+}
+
+// 3. Orients the normals over the symmetric kNN graph when `orient` (seconds_orient either way).
+void orientIfNeeded(pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<int>& knn, int k, bool orient,
+                    ScanMeshingResult& r) {
+  const auto t0 = Clock::now();
+  if (orient) {
+    const Graph graph = symmetricGraph(knn, cloud.size(), k);
+    r.normals_flipped = orientNormals(cloud, graph, r.graph_components);
+    r.normals_reoriented = true;
+  }
+  r.seconds_orient = since(t0);
+}
+
+// 4. pcl::Poisson (seconds_reconstruct).
+void reconstruct(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, const ScanMeshingParams& params,
+                 pcl::PointCloud<pcl::PointNormal>& meshPoints, std::vector<pcl::Vertices>& polygons,
+                 ScanMeshingResult& r) {
+  const auto t0 = Clock::now();
+  pcl::Poisson<pcl::PointNormal> poisson;
+  poisson.setDepth(params.depth);
+  poisson.setSamplesPerNode(static_cast<float>(params.samples_per_node));
+  poisson.setPointWeight(static_cast<float>(params.point_weight));
+  poisson.setThreads(params.threads);
+  poisson.setInputCloud(cloud);
+  poisson.performReconstruction(meshPoints, polygons);  // no search tree needed (reconstruct() builds one)
+  r.seconds_reconstruct = since(t0);
+}
+
+// 5. Poisson's output to r.mesh: fans for any polygon (a triangle with an index out of range is
+// skipped); the raw counts into poisson_vertices, poisson_faces.
+void toTriMesh(const pcl::PointCloud<pcl::PointNormal>& meshPoints,
+               const std::vector<pcl::Vertices>& polygons, ScanMeshingResult& r) {
+  r.poisson_vertices = meshPoints.size();
+  std::size_t triangles = 0;
+  for (const pcl::Vertices& poly : polygons)
+    if (poly.vertices.size() >= 3) triangles += poly.vertices.size() - 2;
+  r.poisson_faces = triangles;
+  TriMesh& m = r.mesh;
+  m.V.resize(static_cast<Eigen::Index>(meshPoints.size()), 3);
+  for (std::size_t i = 0; i < meshPoints.size(); ++i)
+    m.V.row(static_cast<Eigen::Index>(i)) = meshPoints[i].getVector3fMap().cast<double>().transpose();
+  m.F.resize(static_cast<Eigen::Index>(triangles), 3);
+  Eigen::Index nf = 0;
+  const auto nv = static_cast<long long>(meshPoints.size());
+  auto inRange = [nv](long long i) { return i >= 0 && i < nv; };
+  for (const pcl::Vertices& poly : polygons) {
+    for (std::size_t j = 2; j < poly.vertices.size(); ++j) {
+      if (!inRange(poly.vertices[0]) || !inRange(poly.vertices[j - 1]) || !inRange(poly.vertices[j]))
+        continue;
+      m.F.row(nf++) << static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[j - 1]),
+          static_cast<int>(poly.vertices[j]);
+    }
+  }
+  m.F.conservativeResize(nf, 3);
+}
+
+// 5-6. The conversion to r.mesh, unused vertices, cavities and small pieces removed, small holes
+// closed, then the body check, which flips inverted pieces (seconds_cleanup covers it all). Returns
+// why there is no mesh, or "".
+std::string cleanUp(const pcl::PointCloud<pcl::PointNormal>& meshPoints,
+                    const std::vector<pcl::Vertices>& polygons, std::size_t points,
+                    const ScanMeshingParams& params, ScanMeshingResult& r) {
+  const auto t0 = Clock::now();
+  toTriMesh(meshPoints, polygons, r);
+  TriMesh& m = r.mesh;
+  if (m.F.rows() == 0) {
+    r.seconds_cleanup = since(t0);
+    return "Poisson reconstruction produced no faces (" + std::to_string(points) + " points, depth " +
+           std::to_string(params.depth) + ")";
+  }
+  removeUnusedVertices(m);
+  if (params.remove_cavities) r.cavities_removed = removeCavities(m);
+  r.dropped_pieces = dropSmallPieces(m, params.min_piece_fraction);
+  r.holes_filled = closeSmallHoles(m, params.max_hole_edges, &r.hole_faces_added);
+  r.check = orientBody(m);
+  r.seconds_cleanup = since(t0);
+  return "";
+}
+
+// 6. The final mesh's figures from its body check; returns why it is not a closed, outward body, or "".
+std::string checkResult(ScanMeshingResult& r) {
+  r.flipped = r.check.flipped;
+  r.vertices = static_cast<std::size_t>(r.mesh.V.rows());
+  r.faces = static_cast<std::size_t>(r.mesh.F.rows());
+  r.closed = r.check.closed;
+  r.boundary_edges = r.check.boundary_edges;
+  r.non_manifold_edges = r.check.non_manifold_edges;
+  r.signed_volume = r.check.signed_volume;
+  if (!r.check.ok) return "reconstructed mesh unusable: " + r.check.message;
+  if (!r.closed) return "reconstructed mesh is not closed: " + r.check.summary;
+  if (!(r.signed_volume > 0) || r.check.orientation != BodyOrientation::Outward)
+    return "reconstructed mesh is not outward: " + r.check.summary;
+  return "";
+}
+
+}  // namespace
+
 ScanMeshingResult meshScan(const MatrixX3d& points, const MatrixX3d& normals, const ScanMeshingParams& params) {
   const auto tStart = Clock::now();
   ScanMeshingResult r;
@@ -388,168 +667,22 @@ ScanMeshingResult meshScan(const MatrixX3d& points, const MatrixX3d& normals, co
     r.seconds_total = since(tStart);
     return r;
   };
-  const std::string bad = validateScanMeshingParams(params);
+  const std::string bad = checkInput(points, normals, params);
   if (!bad.empty()) return fail(bad);
-  if (points.rows() == 0) return fail("scan has no points");
-  const bool haveNormals = normals.rows() > 0;
-  if (haveNormals && normals.rows() != points.rows())
-    return fail("normals must be empty or one per point: " + std::to_string(normals.rows()) + " normals for " +
-                std::to_string(points.rows()) + " points");
 
   try {
-    // 1. Finite points (and normals) only.
-    auto t0 = Clock::now();
-    pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
-    cloud->reserve(static_cast<std::size_t>(points.rows()));
-    for (Eigen::Index i = 0; i < points.rows(); ++i) {
-      if (!points.row(i).allFinite()) continue;
-      Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
-      if (haveNormals) {
-        n = normals.row(i).transpose();
-        const double len = n.norm();
-        if (!std::isfinite(len) || len == 0) continue;
-        n /= len;
-      }
-      pcl::PointNormal p;
-      p.x = static_cast<float>(points(i, 0)), p.y = static_cast<float>(points(i, 1)), p.z = static_cast<float>(points(i, 2));
-      p.normal_x = static_cast<float>(n.x()), p.normal_y = static_cast<float>(n.y()), p.normal_z = static_cast<float>(n.z());
-      p.curvature = 0;
-      if (!p.getVector3fMap().allFinite()) continue;  // finite double, but out of float range
-      cloud->push_back(p);
-    }
-    r.non_finite_points = r.input_points - cloud->size();
-    if (cloud->size() < params.min_points) {
-      r.seconds_downsample = since(t0);
-      return fail("too few valid points: " + std::to_string(cloud->size()) + " of " + std::to_string(r.input_points) +
-                  " (" + std::to_string(r.non_finite_points) + " non-finite" + (haveNormals ? " or with a bad normal" : "") +
-                  "), min_points = " + std::to_string(params.min_points));
-    }
-
-    // 2. Voxel grid.
-    if (params.voxel_size > 0) {
-      Eigen::Vector4f lo, hi;
-      pcl::getMinMax3D(*cloud, lo, hi);
-      // The voxel count as pcl::VoxelGrid computes it; beyond int32 it warns and returns the input.
-      const double inv = 1.0 / static_cast<float>(params.voxel_size);
-      double cells = 1;
-      for (int a = 0; a < 3; ++a) cells *= std::floor(hi[a] * inv) - std::floor(lo[a] * inv) + 1;
-      if (cells > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
-        return fail("voxel_size " + num(params.voxel_size) + " m is too small for a scan of " + num(hi.x() - lo.x()) +
-                    " x " + num(hi.y() - lo.y()) + " x " + num(hi.z() - lo.z()) +
-                    " m (more than 2^31 voxels, PCL's limit)");
-      pcl::VoxelGrid<pcl::PointNormal> grid;
-      grid.setInputCloud(cloud);
-      grid.setLeafSize(static_cast<float>(params.voxel_size), static_cast<float>(params.voxel_size),
-                       static_cast<float>(params.voxel_size));
-      pcl::PointCloud<pcl::PointNormal>::Ptr down(new pcl::PointCloud<pcl::PointNormal>);
-      grid.filter(*down);
-      // Averaged given normals: renormalised; a voxel whose normals cancel out is dropped.
-      pcl::PointCloud<pcl::PointNormal>::Ptr kept(new pcl::PointCloud<pcl::PointNormal>);
-      kept->reserve(down->size());
-      for (pcl::PointNormal p : *down) {
-        const float len = p.getNormalVector3fMap().norm();
-        if (!(len > 1e-3f)) continue;
-        p.getNormalVector3fMap() /= len;
-        kept->push_back(p);
-      }
-      cloud = kept;
-    }
-    r.points_after_downsampling = cloud->size();
-    r.seconds_downsample = since(t0);
-    if (cloud->size() < params.min_points)
-      return fail("too few points after downsampling: " + std::to_string(cloud->size()) + " (voxel_size " +
-                  num(params.voxel_size) + " m), min_points = " + std::to_string(params.min_points));
-
-    // 3. Normals: kNN, estimation or the consistency test of the given ones, orientation.
-    t0 = Clock::now();
-    const int k = params.normal_neighbours;
-    const std::vector<int> knn = nearestNeighbours(cloud, k);
-    bool orient = true;
-    if (!haveNormals) {
-      estimateNormals(*cloud, knn, k);
-      r.normals_estimated = true;
-    } else {
-      std::size_t edges = 0, disagree = 0;
-      for (std::size_t i = 0; i < cloud->size(); ++i)
-        for (int m = 0; m < k; ++m) {
-          const int j = knn[i * static_cast<std::size_t>(k) + m];
-          if (j < 0) continue;
-          ++edges;
-          if ((*cloud)[i].getNormalVector3fMap().dot((*cloud)[static_cast<std::size_t>(j)].getNormalVector3fMap()) < 0)
-            ++disagree;
-        }
-      r.normal_disagreement = edges > 0 ? static_cast<double>(disagree) / static_cast<double>(edges) : 0.0;
-      orient = r.normal_disagreement > params.max_normal_disagreement;
-    }
-    r.seconds_normals = since(t0);
-    t0 = Clock::now();
-    if (orient) {
-      const Graph graph = symmetricGraph(knn, cloud->size(), k);
-      r.normals_flipped = orientNormals(*cloud, graph, r.graph_components);
-      r.normals_reoriented = true;
-    }
-    r.seconds_orient = since(t0);
-
-    // 4. Poisson.
-    t0 = Clock::now();
-    pcl::Poisson<pcl::PointNormal> poisson;
-    poisson.setDepth(params.depth);
-    poisson.setSamplesPerNode(static_cast<float>(params.samples_per_node));
-    poisson.setPointWeight(static_cast<float>(params.point_weight));
-    poisson.setThreads(params.threads);
-    poisson.setInputCloud(cloud);
+    pcl::PointCloud<pcl::PointNormal>::Ptr cloud;
+    std::string error = preparePoints(points, normals, params, cloud, r);
+    if (!error.empty()) return fail(error);
+    std::vector<int> knn;
+    const bool orient = prepareNormals(cloud, normals.rows() > 0, params, knn, r);
+    orientIfNeeded(*cloud, knn, params.normal_neighbours, orient, r);
     pcl::PointCloud<pcl::PointNormal> meshPoints;
     std::vector<pcl::Vertices> polygons;
-    poisson.performReconstruction(meshPoints, polygons);  // no search tree needed (reconstruct() builds one)
-    r.seconds_reconstruct = since(t0);
-
-    // 5. To a TriMesh (fans for any polygon), unused vertices and small pieces removed.
-    t0 = Clock::now();
-    r.poisson_vertices = meshPoints.size();
-    std::size_t triangles = 0;
-    for (const pcl::Vertices& poly : polygons)
-      if (poly.vertices.size() >= 3) triangles += poly.vertices.size() - 2;
-    r.poisson_faces = triangles;
-    TriMesh& m = r.mesh;
-    m.V.resize(static_cast<Eigen::Index>(meshPoints.size()), 3);
-    for (std::size_t i = 0; i < meshPoints.size(); ++i)
-      m.V.row(static_cast<Eigen::Index>(i)) = meshPoints[i].getVector3fMap().cast<double>().transpose();
-    m.F.resize(static_cast<Eigen::Index>(triangles), 3);
-    Eigen::Index nf = 0;
-    const auto nv = static_cast<long long>(meshPoints.size());
-    auto inRange = [nv](long long i) { return i >= 0 && i < nv; };
-    for (const pcl::Vertices& poly : polygons) {
-      for (std::size_t j = 2; j < poly.vertices.size(); ++j) {
-        if (!inRange(poly.vertices[0]) || !inRange(poly.vertices[j - 1]) || !inRange(poly.vertices[j])) continue;
-        m.F.row(nf++) << static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[j - 1]),
-            static_cast<int>(poly.vertices[j]);
-      }
-    }
-    m.F.conservativeResize(nf, 3);
-    if (m.F.rows() == 0) {
-      r.seconds_cleanup = since(t0);
-      return fail("Poisson reconstruction produced no faces (" + std::to_string(cloud->size()) + " points, depth " +
-                  std::to_string(params.depth) + ")");
-    }
-    removeUnusedVertices(m);
-    if (params.remove_cavities) r.cavities_removed = removeCavities(m);
-    r.dropped_pieces = dropSmallPieces(m, params.min_piece_fraction);
-    r.holes_filled = closeSmallHoles(m, params.max_hole_edges, &r.hole_faces_added);
-
-    // 6. Check and orient.
-    r.check = orientBody(m);
-    r.seconds_cleanup = since(t0);
-    r.flipped = r.check.flipped;
-    r.vertices = static_cast<std::size_t>(m.V.rows());
-    r.faces = static_cast<std::size_t>(m.F.rows());
-    r.closed = r.check.closed;
-    r.boundary_edges = r.check.boundary_edges;
-    r.non_manifold_edges = r.check.non_manifold_edges;
-    r.signed_volume = r.check.signed_volume;
-    if (!r.check.ok) return fail("reconstructed mesh unusable: " + r.check.message);
-    if (!r.closed) return fail("reconstructed mesh is not closed: " + r.check.summary);
-    if (!(r.signed_volume > 0) || r.check.orientation != BodyOrientation::Outward)
-      return fail("reconstructed mesh is not outward: " + r.check.summary);
+    reconstruct(cloud, params, meshPoints, polygons, r);
+    error = cleanUp(meshPoints, polygons, cloud->size(), params, r);
+    if (error.empty()) error = checkResult(r);
+    if (!error.empty()) return fail(error);
     r.success = true;
     r.message = r.check.summary;
     r.seconds_total = since(tStart);

@@ -168,18 +168,16 @@ Eigen::Matrix3d frameAlong(const Eigen::Vector3d& axis, const Eigen::Vector3d& h
   return R;
 }
 
-// All dimensions are for a 1.70 m body (metres) and scaled by s = height / 1.70; radii (and the
-// lateral offsets that must follow them) are also scaled by the girth factor g.
-BodyModel buildModel(const ProceduralBodyParams& params) {
-  BodyModel m;
-  const double s = params.height / 1.70;
-  const double g = params.girth_scale;
-  m.height = params.height;
-  m.girth = g;
-  m.blend = 0.025 * s;
-  auto P = [s](double x, double y, double z) { return Eigen::Vector3d(s * x, s * y, s * z); };
+// Positions given for a 1.70 m body, scaled by s = height / 1.70.
+struct Scaled {
+  double s;
+  Eigen::Vector3d operator()(double x, double y, double z) const {
+    return Eigen::Vector3d(s * x, s * y, s * z);
+  }
+};
 
-  // Torso: (y, half-width x, half-depth z, centre z).
+// Torso: (y, half-width x, half-depth z, centre z) stations of the loft, and the key heights.
+void addTorso(BodyModel& m, double s, double g) {
   struct Station { double y, rx, rz, cz; };
   const Station stations[] = {
       {0.755, 0.050, 0.050, -0.010},  // crotch (bottom cap)
@@ -204,8 +202,11 @@ BodyModel buildModel(const ProceduralBodyParams& params) {
   m.waist_y = s * 1.05;
   m.hip_y = s * 0.88;
   m.chest_y = s * 1.24;
+}
 
-  // Neck and head.
+// Neck, head and trapezius.
+void addNeckAndHead(BodyModel& m, double s, double g, double shoulderX) {
+  const Scaled P{s};
   m.neck_y = s * 1.47;
   m.neck_radius = s * g * 0.056;
   m.capsules.push_back({P(0, 1.40, -0.018), P(0, 1.54, -0.004), m.neck_radius, m.neck_radius});
@@ -216,14 +217,16 @@ BodyModel buildModel(const ProceduralBodyParams& params) {
     m.ellipsoids.push_back(head);
   }
   // Trapezius: slope from the neck down to the shoulders.
-  const double shoulderX = 0.178 + 0.165 * (g - 1.0);  // follows the torso width
   for (int side = 0; side < 2; ++side) {
     const double sx = side == 0 ? 1.0 : -1.0;  // 0: left (+x), 1: right (-x)
     m.capsules.push_back({P(0, 1.435, -0.02), P(sx * (shoulderX - 0.02), 1.40, -0.014), s * g * 0.045,
                           s * g * 0.045});
   }
+}
 
-  // Arms in an A-pose, 45 degrees below the horizontal.
+// Arms in an A-pose, 45 degrees below the horizontal.
+void addArms(BodyModel& m, double s, double g, double shoulderX) {
+  const Scaled P{s};
   const double armAngle = 45.0 * 3.14159265358979323846 / 180.0;
   m.arm_radius = s * g * 0.050;
   for (int side = 0; side < 2; ++side) {
@@ -244,8 +247,11 @@ BodyModel buildModel(const ProceduralBodyParams& params) {
     m.ellipsoids.push_back({m.hand[side], frameAlong(dir, Eigen::Vector3d(0, 0, 1)),
                             Eigen::Vector3d(0.088 * s, 0.044 * s * g, 0.027 * s * g)});
   }
+}
 
-  // Legs, slightly apart.
+// Legs, slightly apart.
+void addLegs(BodyModel& m, double s, double g) {
+  const Scaled P{s};
   m.thigh_radius = s * g * 0.088;
   const double hipX = 0.094 * g;
   for (int side = 0; side < 2; ++side) {
@@ -262,6 +268,22 @@ BodyModel buildModel(const ProceduralBodyParams& params) {
     m.ellipsoids.push_back({P(sx * (hipX + 0.040), 0.036, 0.045), Eigen::Matrix3d::Identity(),
                             Eigen::Vector3d(0.045, 0.036, 0.128) * s});
   }
+}
+
+// All dimensions are for a 1.70 m body (metres) and scaled by s = height / 1.70; radii (and the
+// lateral offsets that must follow them) are also scaled by the girth factor g.
+BodyModel buildModel(const ProceduralBodyParams& params) {
+  BodyModel m;
+  const double s = params.height / 1.70;
+  const double g = params.girth_scale;
+  m.height = params.height;
+  m.girth = g;
+  m.blend = 0.025 * s;
+  addTorso(m, s, g);
+  const double shoulderX = 0.178 + 0.165 * (g - 1.0);  // follows the torso width
+  addNeckAndHead(m, s, g, shoulderX);
+  addArms(m, s, g, shoulderX);
+  addLegs(m, s, g);
   return m;
 }
 
@@ -391,143 +413,188 @@ ProceduralBodyLandmarks proceduralBodyLandmarks(const ProceduralBodyParams& para
 // Marching tetrahedra
 // ------------------------------------------------------------------------------------------------
 
-TriMesh meshImplicit(const std::function<double(const Eigen::Vector3d&)>& f, const Eigen::Vector3d& lo,
-                     const Eigen::Vector3d& hi, double cell) {
-  TriMesh out;
-  if (!(cell > 0) || !(hi.array() > lo.array()).all()) return out;
-  const Eigen::Array3d ext = (hi - lo).array() / cell;
-  const std::int64_t nx = static_cast<std::int64_t>(std::ceil(ext(0))) + 1;
-  const std::int64_t ny = static_cast<std::int64_t>(std::ceil(ext(1))) + 1;
-  const std::int64_t nz = static_cast<std::int64_t>(std::ceil(ext(2))) + 1;
-  const std::int64_t nNodes = nx * ny * nz;
-  auto node = [nx, ny](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
-  auto pos = [&](std::int64_t idx) {
+namespace {
+
+// The grid of meshImplicit: nodes lo + cell * (i, j, k) for i < nx, j < ny, k < nz, and f at each.
+struct Grid {
+  Eigen::Vector3d lo;
+  double cell = 0;
+  std::int64_t nx = 0, ny = 0, nz = 0;
+  std::vector<double> val;  // f per node, NaN replaced by 1 (outside)
+
+  std::int64_t node(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + nx * (j + ny * k); }
+  Eigen::Vector3d pos(std::int64_t idx) const {
     const std::int64_t i = idx % nx, j = (idx / nx) % ny, k = idx / (nx * ny);
     return Eigen::Vector3d(lo.x() + cell * i, lo.y() + cell * j, lo.z() + cell * k);
-  };
+  }
+  bool inside(std::int64_t idx) const { return val[static_cast<std::size_t>(idx)] < 0.0; }
+};
 
-  // f once per node.
-  std::vector<double> val(static_cast<std::size_t>(nNodes));
-  for (std::int64_t k = 0; k < nz; ++k)
-    for (std::int64_t j = 0; j < ny; ++j)
-      for (std::int64_t i = 0; i < nx; ++i) {
+// Enough nodes from lo to cover hi; f once per node.
+Grid sampleGrid(const std::function<double(const Eigen::Vector3d&)>& f, const Eigen::Vector3d& lo,
+                const Eigen::Vector3d& hi, double cell) {
+  Grid g;
+  g.lo = lo;
+  g.cell = cell;
+  const Eigen::Array3d ext = (hi - lo).array() / cell;
+  g.nx = static_cast<std::int64_t>(std::ceil(ext(0))) + 1;
+  g.ny = static_cast<std::int64_t>(std::ceil(ext(1))) + 1;
+  g.nz = static_cast<std::int64_t>(std::ceil(ext(2))) + 1;
+  const std::int64_t nNodes = g.nx * g.ny * g.nz;
+  g.val.resize(static_cast<std::size_t>(nNodes));
+  for (std::int64_t k = 0; k < g.nz; ++k)
+    for (std::int64_t j = 0; j < g.ny; ++j)
+      for (std::int64_t i = 0; i < g.nx; ++i) {
         const double v = f(Eigen::Vector3d(lo.x() + cell * i, lo.y() + cell * j, lo.z() + cell * k));
-        val[static_cast<std::size_t>(node(i, j, k))] = std::isnan(v) ? 1.0 : v;
+        g.val[static_cast<std::size_t>(g.node(i, j, k))] = std::isnan(v) ? 1.0 : v;
       }
-  auto inside = [&](std::int64_t idx) { return val[static_cast<std::size_t>(idx)] < 0.0; };
+  return g;
+}
 
-  // Cube corners: bit 0 = +x, bit 1 = +y, bit 2 = +z. Offsets of each corner in node indices.
-  std::array<std::int64_t, 8> cornerOffset;
-  for (int c = 0; c < 8; ++c) cornerOffset[c] = node(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-  // Six tetrahedra sharing the diagonal 0-7 (Kuhn / Freudenthal split): 0, e_a, e_a + e_b, 7 for each
-  // permutation (a, b, c) of the axes. All cubes split the same way, so faces match between cubes.
+// Six tetrahedra sharing the diagonal 0-7 of a cube (corners: bit 0 = +x, bit 1 = +y, bit 2 = +z)
+// (Kuhn / Freudenthal split): 0, e_a, e_a + e_b, 7 for each permutation (a, b, c) of the axes. All
+// cubes split the same way, so faces match between cubes.
+std::array<std::array<int, 4>, 6> kuhnTetrahedra() {
   const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  int tets[6][4];
+  std::array<std::array<int, 4>, 6> tets;
   for (int t = 0; t < 6; ++t) {
     tets[t][0] = 0;
     tets[t][1] = 1 << perms[t][0];
     tets[t][2] = (1 << perms[t][0]) | (1 << perms[t][1]);
     tets[t][3] = 7;
   }
+  return tets;
+}
 
-  // Vertices on grid edges, shared: key = (node of the lower corner) * 8 + offset bits. Every tet
-  // edge joins corners u < v with u's bits a subset of v's, so the key is unique per grid edge.
+// The surface as it is built cube by cube: vertices on grid edges, shared, and faces.
+struct TetSurface {
+  const Grid& grid;
+  std::array<std::int64_t, 8> cornerOffset;  // of each cube corner, in node indices
+  const std::array<std::array<int, 4>, 6> tets = kuhnTetrahedra();
+  // Vertices on grid edges: key = (node of the lower corner) * 8 + offset bits. Every tet edge joins
+  // corners u < v with u's bits a subset of v's, so the key is unique per grid edge.
   std::unordered_map<std::uint64_t, int> edgeVertex;
-  edgeVertex.reserve(1 << 16);
   std::vector<double> verts;  // xyz
   std::vector<int> faces;     // abc
-  constexpr double tMin = 1e-3, tMax = 1.0 - 1e-3;
+
+  explicit TetSurface(const Grid& g) : grid(g) {
+    for (int c = 0; c < 8; ++c) cornerOffset[c] = grid.node(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    edgeVertex.reserve(1 << 16);
+  }
 
   // Vertex on the edge between cube corners cu and cv of the cube at base node `base`.
-  auto edgeVertexId = [&](std::int64_t base, int cu, int cv) {
+  int edgeVertexId(std::int64_t base, int cu, int cv) {
+    constexpr double tMin = 1e-3, tMax = 1.0 - 1e-3;
     if (cu > cv) std::swap(cu, cv);  // chains are monotone: the smaller corner is the lower one
     const std::int64_t a = base + cornerOffset[cu], b = base + cornerOffset[cv];
     const std::uint64_t key = static_cast<std::uint64_t>(a) * 8u + static_cast<std::uint64_t>(cu ^ cv);
     auto it = edgeVertex.find(key);
     if (it != edgeVertex.end()) return it->second;
-    const double fa = val[static_cast<std::size_t>(a)], fb = val[static_cast<std::size_t>(b)];
+    const double fa = grid.val[static_cast<std::size_t>(a)], fb = grid.val[static_cast<std::size_t>(b)];
     const double t = std::clamp(fa / (fa - fb), tMin, tMax);
-    const Eigen::Vector3d p = pos(a) + t * (pos(b) - pos(a));
+    const Eigen::Vector3d p = grid.pos(a) + t * (grid.pos(b) - grid.pos(a));
     const int id = static_cast<int>(verts.size() / 3);
     verts.insert(verts.end(), {p.x(), p.y(), p.z()});
     edgeVertex.emplace(key, id);
     return id;
-  };
-  auto vertexPos = [&](int id) {
+  }
+
+  Eigen::Vector3d vertexPos(int id) const {
     return Eigen::Vector3d(verts[3 * id], verts[3 * id + 1], verts[3 * id + 2]);
-  };
+  }
+
   // Adds the triangle (i0, i1, i2), oriented so that node `ref` (at position pr) is on the inner
   // side if refInside, else on the outer side. `ref` is the common endpoint of two of the three
   // grid edges, so the triangle's plane separates it from those edges' other ends.
-  auto addTri = [&](int i0, int i1, int i2, const Eigen::Vector3d& pr, bool refInside) {
+  void addTri(int i0, int i1, int i2, const Eigen::Vector3d& pr, bool refInside) {
     const Eigen::Vector3d p0 = vertexPos(i0), p1 = vertexPos(i1), p2 = vertexPos(i2);
     const double side = (p1 - p0).cross(p2 - p0).dot(pr - p0);
     if ((side < 0) != refInside) std::swap(i1, i2);
     if (i0 == i1 || i1 == i2 || i0 == i2) return;
     faces.insert(faces.end(), {i0, i1, i2});
-  };
-
-  for (std::int64_t k = 0; k + 1 < nz; ++k)
-    for (std::int64_t j = 0; j + 1 < ny; ++j)
-      for (std::int64_t i = 0; i + 1 < nx; ++i) {
-        const std::int64_t base = node(i, j, k);
-        int mask = 0;
-        for (int c = 0; c < 8; ++c)
-          if (inside(base + cornerOffset[c])) mask |= 1 << c;
-        if (mask == 0 || mask == 255) continue;
-        const Eigen::Vector3d basePos = pos(base);
-        auto cornerPos = [&](int c) {
-          return Eigen::Vector3d(basePos.x() + cell * (c & 1), basePos.y() + cell * ((c >> 1) & 1),
-                                 basePos.z() + cell * ((c >> 2) & 1));
-        };
-        for (const auto& tet : tets) {
-          int in[4], outs[4], nIn = 0, nOut = 0;
-          for (int q = 0; q < 4; ++q) {
-            if (mask & (1 << tet[q]))
-              in[nIn++] = tet[q];
-            else
-              outs[nOut++] = tet[q];
-          }
-          if (nIn == 0 || nOut == 0) continue;
-          if (nIn == 1 || nOut == 1) {
-            const bool loneInside = nIn == 1;
-            const int lone = loneInside ? in[0] : outs[0];
-            const int* others = loneInside ? outs : in;
-            addTri(edgeVertexId(base, lone, others[0]), edgeVertexId(base, lone, others[1]),
-                   edgeVertexId(base, lone, others[2]), cornerPos(lone), loneInside);
-          } else {
-            // Quad ac, ad, bd, bc (a, b inside; c, d outside); split along the shorter diagonal.
-            const int a = in[0], b = in[1], c = outs[0], d = outs[1];
-            const int ac = edgeVertexId(base, a, c), ad = edgeVertexId(base, a, d);
-            const int bc = edgeVertexId(base, b, c), bd = edgeVertexId(base, b, d);
-            if ((vertexPos(ac) - vertexPos(bd)).squaredNorm() <= (vertexPos(ad) - vertexPos(bc)).squaredNorm()) {
-              addTri(ac, ad, bd, cornerPos(a), true);   // ac, ad share a
-              addTri(ac, bd, bc, cornerPos(c), false);  // ac, bc share c
-            } else {
-              addTri(ac, ad, bc, cornerPos(a), true);   // ac, ad share a
-              addTri(ad, bd, bc, cornerPos(b), true);   // bd, bc share b
-            }
-          }
-        }
-      }
-
-  // Compact (only matters if a face was dropped) and copy out.
-  const int nv = static_cast<int>(verts.size() / 3);
-  std::vector<int> remap(static_cast<std::size_t>(nv), -1);
-  int used = 0;
-  for (int id : faces)
-    if (remap[static_cast<std::size_t>(id)] < 0) remap[static_cast<std::size_t>(id)] = 0;
-  for (int v = 0; v < nv; ++v)
-    if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = used++;
-  out.V.resize(used, 3);
-  for (int v = 0; v < nv; ++v) {
-    const int r = remap[static_cast<std::size_t>(v)];
-    if (r >= 0) out.V.row(r) << verts[3 * v], verts[3 * v + 1], verts[3 * v + 2];
   }
-  out.F.resize(static_cast<Eigen::Index>(faces.size() / 3), 3);
-  for (std::size_t q = 0; q < faces.size(); ++q)
-    out.F(static_cast<Eigen::Index>(q / 3), static_cast<Eigen::Index>(q % 3)) = remap[static_cast<std::size_t>(faces[q])];
-  return out;
+
+  // The surface in the cube at base node `base`, tetrahedron by tetrahedron.
+  void addCube(std::int64_t base) {
+    int mask = 0;
+    for (int c = 0; c < 8; ++c)
+      if (grid.inside(base + cornerOffset[c])) mask |= 1 << c;
+    if (mask == 0 || mask == 255) return;
+    const Eigen::Vector3d basePos = grid.pos(base);
+    for (const auto& tet : tets) addTet(base, basePos, mask, tet);
+  }
+
+  // The surface in one tetrahedron of the cube at `base` (at basePos) whose inside corners are `mask`:
+  // a triangle round a lone corner, or a quad split in two.
+  void addTet(std::int64_t base, const Eigen::Vector3d& basePos, int mask, const std::array<int, 4>& tet) {
+    const double cell = grid.cell;
+    auto cornerPos = [&](int c) {
+      return Eigen::Vector3d(basePos.x() + cell * (c & 1), basePos.y() + cell * ((c >> 1) & 1),
+                             basePos.z() + cell * ((c >> 2) & 1));
+    };
+    int in[4], outs[4], nIn = 0, nOut = 0;
+    for (int q = 0; q < 4; ++q) {
+      if (mask & (1 << tet[q]))
+        in[nIn++] = tet[q];
+      else
+        outs[nOut++] = tet[q];
+    }
+    if (nIn == 0 || nOut == 0) return;
+    if (nIn == 1 || nOut == 1) {
+      const bool loneInside = nIn == 1;
+      const int lone = loneInside ? in[0] : outs[0];
+      const int* others = loneInside ? outs : in;
+      addTri(edgeVertexId(base, lone, others[0]), edgeVertexId(base, lone, others[1]),
+             edgeVertexId(base, lone, others[2]), cornerPos(lone), loneInside);
+    } else {
+      // Quad ac, ad, bd, bc (a, b inside; c, d outside); split along the shorter diagonal.
+      const int a = in[0], b = in[1], c = outs[0], d = outs[1];
+      const int ac = edgeVertexId(base, a, c), ad = edgeVertexId(base, a, d);
+      const int bc = edgeVertexId(base, b, c), bd = edgeVertexId(base, b, d);
+      if ((vertexPos(ac) - vertexPos(bd)).squaredNorm() <= (vertexPos(ad) - vertexPos(bc)).squaredNorm()) {
+        addTri(ac, ad, bd, cornerPos(a), true);   // ac, ad share a
+        addTri(ac, bd, bc, cornerPos(c), false);  // ac, bc share c
+      } else {
+        addTri(ac, ad, bc, cornerPos(a), true);   // ac, ad share a
+        addTri(ad, bd, bc, cornerPos(b), true);   // bd, bc share b
+      }
+    }
+  }
+
+  // Compacted (only matters if a face was dropped) and copied out.
+  TriMesh mesh() const {
+    TriMesh out;
+    const int nv = static_cast<int>(verts.size() / 3);
+    std::vector<int> remap(static_cast<std::size_t>(nv), -1);
+    int used = 0;
+    for (int id : faces)
+      if (remap[static_cast<std::size_t>(id)] < 0) remap[static_cast<std::size_t>(id)] = 0;
+    for (int v = 0; v < nv; ++v)
+      if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = used++;
+    out.V.resize(used, 3);
+    for (int v = 0; v < nv; ++v) {
+      const int r = remap[static_cast<std::size_t>(v)];
+      if (r >= 0) out.V.row(r) << verts[3 * v], verts[3 * v + 1], verts[3 * v + 2];
+    }
+    out.F.resize(static_cast<Eigen::Index>(faces.size() / 3), 3);
+    for (std::size_t q = 0; q < faces.size(); ++q)
+      out.F(static_cast<Eigen::Index>(q / 3), static_cast<Eigen::Index>(q % 3)) =
+          remap[static_cast<std::size_t>(faces[q])];
+    return out;
+  }
+};
+
+}  // namespace
+
+TriMesh meshImplicit(const std::function<double(const Eigen::Vector3d&)>& f, const Eigen::Vector3d& lo,
+                     const Eigen::Vector3d& hi, double cell) {
+  if (!(cell > 0) || !(hi.array() > lo.array()).all()) return TriMesh();
+  const Grid grid = sampleGrid(f, lo, hi, cell);
+  TetSurface surface(grid);
+  for (std::int64_t k = 0; k + 1 < grid.nz; ++k)
+    for (std::int64_t j = 0; j + 1 < grid.ny; ++j)
+      for (std::int64_t i = 0; i + 1 < grid.nx; ++i) surface.addCube(grid.node(i, j, k));
+  return surface.mesh();
 }
 
 TriMesh subdivideMidpoint(const TriMesh& mesh) {
