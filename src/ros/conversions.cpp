@@ -1,8 +1,9 @@
 #include "virtual_tryon/ros/conversions.h"
 
+#include "virtual_tryon/core/io/point_records.h"
+
 #include <sensor_msgs/PointField.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,19 +14,11 @@ namespace virtual_tryon {
 namespace ros_conversions {
 namespace {
 
-const char* datatypeName(std::uint8_t t) {
-  switch (t) {
-    case sensor_msgs::PointField::INT8: return "INT8";
-    case sensor_msgs::PointField::UINT8: return "UINT8";
-    case sensor_msgs::PointField::INT16: return "INT16";
-    case sensor_msgs::PointField::UINT16: return "UINT16";
-    case sensor_msgs::PointField::INT32: return "INT32";
-    case sensor_msgs::PointField::UINT32: return "UINT32";
-    case sensor_msgs::PointField::FLOAT32: return "FLOAT32";
-    case sensor_msgs::PointField::FLOAT64: return "FLOAT64";
-    default: return "unknown";
-  }
-}
+using PF = sensor_msgs::PointField;
+static_assert(PF::INT8 == kPointInt8 && PF::UINT8 == kPointUInt8 && PF::INT16 == kPointInt16 &&
+                  PF::UINT16 == kPointUInt16 && PF::INT32 == kPointInt32 && PF::UINT32 == kPointUInt32 &&
+                  PF::FLOAT32 == kPointFloat32 && PF::FLOAT64 == kPointFloat64,
+              "sensor_msgs::PointField datatypes differ from point_records.h");
 
 bool faceIsValid(const TriMesh& mesh, Eigen::Index f) {
   const Eigen::Index n = mesh.V.rows();
@@ -34,23 +27,15 @@ bool faceIsValid(const TriMesh& mesh, Eigen::Index f) {
   return true;
 }
 
-}  // namespace
+// The fields pointCloudToPoints reads: x, y, z, then normal_x, normal_y, normal_z when wanted and
+// present.
+const char* const kCloudFields[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
 
-bool pointCloudToPoints(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, MatrixX3d* normals,
-                        std::string& error, const MeshLimits& limits) {
-  if (cloud.is_bigendian) {
-    error = "point cloud is big-endian (is_bigendian = true); only little-endian data is supported";
-    return false;
-  }
-  const std::uint64_t width = cloud.width, height = cloud.height, step = cloud.point_step;
-  const std::uint64_t n = width * height;  // < 2^64: both are 32-bit
-  if (n == 0) {
-    V.resize(0, 3);
-    if (normals) normals->resize(0, 3);
-    return true;
-  }
+// The point count (width * height > 0) against the limits and what a mesh can index.
+bool checkCloudSize(const PointRecords& cloud, const MeshLimits& limits, std::string& error) {
+  const std::uint64_t n = cloud.points();
   if (n > limits.max_vertices) {
-    error = "point cloud has " + std::to_string(width) + " x " + std::to_string(height) + " = " +
+    error = "point cloud has " + std::to_string(cloud.width) + " x " + std::to_string(cloud.height) + " = " +
             std::to_string(n) + " points, over the limit of " + std::to_string(limits.max_vertices) +
             " vertices (MeshLimits::max_vertices)";
     return false;
@@ -59,91 +44,97 @@ bool pointCloudToPoints(const sensor_msgs::PointCloud2& cloud, MatrixX3d& V, Mat
     error = "point cloud has " + std::to_string(n) + " points, more than a mesh can index";
     return false;
   }
+  return true;
+}
 
-  // The fields to read: x, y, z, then normal_x, normal_y, normal_z when wanted and present.
-  const char* names[6] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
-  const sensor_msgs::PointField* found[6] = {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
-  for (int k = 0; k < 6; ++k) {
-    const auto it = std::find_if(cloud.fields.begin(), cloud.fields.end(),
-                                 [&](const sensor_msgs::PointField& f) { return f.name == names[k]; });
-    if (it != cloud.fields.end()) found[k] = &*it;
+// Field `name` of the cloud: FLOAT32 or FLOAT64, inside point_step.
+bool checkCloudField(const PointRecordField& f, const char* name, std::uint32_t step, std::string& error) {
+  switch (checkFloatField(f, step)) {
+    case FloatFieldProblem::NotFloat:
+      error = std::string("point cloud field '") + name + "' has datatype " + pointDatatypeName(f.datatype) +
+              " (" + std::to_string(f.datatype) + "); only FLOAT32 and FLOAT64 are supported";
+      return false;
+    case FloatFieldProblem::OutsidePointStep:
+      error = "point_step " + std::to_string(step) + " is too small for field '" + name + "' (offset " +
+              std::to_string(f.offset) + ", " + std::to_string(floatFieldBytes(f)) + " bytes)";
+      return false;
+    case FloatFieldProblem::None: break;
   }
+  return true;
+}
+
+// Finds the fields to read, kCloudFields[0 .. fieldCount): x, y, z (required), then the three
+// normal fields when `wantNormals` and the cloud has any of them (then it must have all three),
+// and checks each.
+bool findCloudFields(const PointRecords& cloud, bool wantNormals, const PointRecordField* (&found)[6],
+                     int& fieldCount, std::string& error) {
+  for (int k = 0; k < 6; ++k) found[k] = cloud.field(kCloudFields[k]);
   for (int k = 0; k < 3; ++k)
     if (!found[k]) {
-      error = std::string("point cloud has no '") + names[k] + "' field";
+      error = std::string("point cloud has no '") + kCloudFields[k] + "' field";
       return false;
     }
-  int fieldCount = 3;
-  if (normals && (found[3] || found[4] || found[5])) {
+  fieldCount = 3;
+  if (wantNormals && (found[3] || found[4] || found[5])) {
     for (int k = 3; k < 6; ++k)
       if (!found[k]) {
-        error = std::string("point cloud has some normal fields but no '") + names[k] +
+        error = std::string("point cloud has some normal fields but no '") + kCloudFields[k] +
                 "' (normal_x, normal_y and normal_z go together)";
         return false;
       }
     fieldCount = 6;
   }
-  std::uint32_t offset[6];
-  bool isDouble[6];
-  for (int k = 0; k < fieldCount; ++k) {
-    const sensor_msgs::PointField& f = *found[k];
-    if (f.datatype != sensor_msgs::PointField::FLOAT32 &&
-        f.datatype != sensor_msgs::PointField::FLOAT64) {
-      error = std::string("point cloud field '") + names[k] + "' has datatype " +
-              datatypeName(f.datatype) + " (" + std::to_string(f.datatype) +
-              "); only FLOAT32 and FLOAT64 are supported";
-      return false;
-    }
-    isDouble[k] = f.datatype == sensor_msgs::PointField::FLOAT64;
-    const std::uint64_t size = isDouble[k] ? 8 : 4;
-    if (static_cast<std::uint64_t>(f.offset) + size > step) {
-      error = "point_step " + std::to_string(step) + " is too small for field '" + names[k] +
-              "' (offset " + std::to_string(f.offset) + ", " + std::to_string(size) + " bytes)";
-      return false;
-    }
-    offset[k] = f.offset;
-  }
+  for (int k = 0; k < fieldCount; ++k)
+    if (!checkCloudField(*found[k], kCloudFields[k], cloud.point_step, error)) return false;
+  return true;
+}
 
-  // Rows are row_step apart when height > 1; a single row only needs width * point_step bytes.
-  // n <= 2^31 and step, row_step < 2^32, so none of these products overflows 64 bits.
-  const std::uint64_t rowBytes = width * step;
-  const std::uint64_t rowStep = height > 1 ? cloud.row_step : rowBytes;
-  if (rowStep < rowBytes) {
-    error = "row_step " + std::to_string(rowStep) + " is smaller than width * point_step = " +
-            std::to_string(rowBytes);
+// The data holds every point: row_step (height > 1) and the buffer size.
+bool checkCloudExtent(const PointRecords& cloud, std::string& error) {
+  switch (checkPointExtent(cloud)) {
+    case PointExtentProblem::RowStepTooSmall:
+      error = "row_step " + std::to_string(cloud.rowStride()) + " is smaller than width * point_step = " +
+              std::to_string(cloud.rowBytes());
+      return false;
+    case PointExtentProblem::DataTooShort:
+      error = "point cloud data has " + std::to_string(cloud.size) + " bytes, " +
+              std::to_string(cloud.bytesNeeded()) + " needed for " + std::to_string(cloud.width) + " x " +
+              std::to_string(cloud.height) + " points of " + std::to_string(cloud.point_step) + " bytes";
+      return false;
+    case PointExtentProblem::None: break;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool pointCloudToPoints(const sensor_msgs::PointCloud2& msg, MatrixX3d& V, MatrixX3d* normals,
+                        std::string& error, const MeshLimits& limits) {
+  const PointRecords cloud = viewPointRecords(msg);
+  if (cloud.is_bigendian) {
+    error = "point cloud is big-endian (is_bigendian = true); only little-endian data is supported";
     return false;
   }
-  const std::uint64_t needed = rowStep * (height - 1) + rowBytes;
-  if (cloud.data.size() < needed) {
-    error = "point cloud data has " + std::to_string(cloud.data.size()) + " bytes, " +
-            std::to_string(needed) + " needed for " + std::to_string(width) + " x " +
-            std::to_string(height) + " points of " + std::to_string(step) + " bytes";
-    return false;
+  const std::uint64_t n = cloud.points();
+  if (n == 0) {
+    V.resize(0, 3);
+    if (normals) normals->resize(0, 3);
+    return true;
   }
+  if (!checkCloudSize(cloud, limits, error)) return false;
+  const PointRecordField* fields[6];
+  int fieldCount = 3;
+  if (!findCloudFields(cloud, normals != nullptr, fields, fieldCount, error)) return false;
+  if (!checkCloudExtent(cloud, error)) return false;
 
   MatrixX3d out(static_cast<Eigen::Index>(n), 3);
   MatrixX3d outNormals(fieldCount == 6 ? static_cast<Eigen::Index>(n) : 0, 3);
-  Eigen::Index i = 0;
-  for (std::uint64_t r = 0; r < height; ++r) {
-    const std::uint8_t* row = cloud.data.data() + r * rowStep;
-    for (std::uint64_t c = 0; c < width; ++c, ++i) {
-      const std::uint8_t* pt = row + c * step;
-      for (int k = 0; k < fieldCount; ++k) {
-        double v;
-        if (isDouble[k]) {
-          std::memcpy(&v, pt + offset[k], sizeof v);
-        } else {
-          float fv;
-          std::memcpy(&fv, pt + offset[k], sizeof fv);
-          v = static_cast<double>(fv);
-        }
-        if (k < 3)
-          out(i, k) = v;
-        else
-          outNormals(i, k - 3) = v;
-      }
-    }
-  }
+  readFloatFields(cloud, fields, fieldCount, [&](std::uint64_t i, int k, double v) {
+    if (k < 3)
+      out(static_cast<Eigen::Index>(i), k) = v;
+    else
+      outNormals(static_cast<Eigen::Index>(i), k - 3) = v;
+  });
   V = std::move(out);
   if (normals) *normals = std::move(outNormals);
   return true;

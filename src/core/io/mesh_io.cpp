@@ -11,6 +11,8 @@
 //    every count and index against the limits and the file.
 #include "virtual_tryon/core/io/mesh_io.h"
 
+#include "virtual_tryon/core/io/point_records.h"
+
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/PCLPointField.h>
 #include <pcl/PolygonMesh.h>
@@ -176,112 +178,154 @@ bool parseDouble(const char* b, const char* e, double& value) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
-             const MeshLimits& limits) {
-  std::string text;
-  if (!readWholeFile(path, text, error)) return false;
+// What readObj has read so far, line by line; `problem` says what is wrong on `line`.
+struct ObjReader {
+  ObjReader(const MeshLimits& l, MeshReadInfo& i) : limits(l), info(i) {}
 
+  // Line `line`, [p, eol) without its '\n'.
+  bool readLine(const char* p, const char* eol);
+  // The rest of a `v` line, after the keyword: x, y, z (more coordinates are ignored).
+  bool vertex(const char* t, const char* eol);
+  // The rest of an `f` line, after the keyword.
+  bool face(const char* t, const char* eol);
+  // One corner of a face, [t, te), as a 0-based index appended to `poly`.
+  bool faceIndex(const char* t, const char* te, long long nv);
+  // After the last line: every positive index refers to a vertex of the file.
+  bool checkMaxIndex();
+  bool lineError(const std::string& what) {
+    problem = what;
+    return false;
+  }
+
+  const MeshLimits& limits;
+  MeshReadInfo& info;
   std::vector<double> coords;
   std::vector<int> tris;
   std::vector<int> poly;
-  coords.reserve(text.size() / 12);
-  tris.reserve(text.size() / 8);
-
-  const char* p = text.data();
-  const char* const end = p + text.size();
   std::size_t line = 0;
   long long maxIndex = -1;  // largest positive index seen (0-based) and where
   std::size_t maxIndexLine = 0;
-  auto lineError = [&](const std::string& what) {
-    error = fail(path, "line " + std::to_string(line) + ": " + what);
-    return false;
-  };
+  std::string problem;
+};
 
-  while (p < end) {
-    ++line;
-    const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
-    if (!eol) eol = end;
-    const char* q = skipSpace(p, eol);
-    const char* const next = eol < end ? eol + 1 : end;
-    if (q == eol || *q == '#') {
-      p = next;
-      continue;
-    }
-    const char* kw = q;
-    const char* kwEnd = tokenEnd(q, eol);
-    const std::size_t kwLen = static_cast<std::size_t>(kwEnd - kw);
+bool ObjReader::readLine(const char* p, const char* eol) {
+  const char* q = skipSpace(p, eol);
+  if (q == eol || *q == '#') return true;
+  const char* kw = q;
+  const char* kwEnd = tokenEnd(q, eol);
+  const std::size_t kwLen = static_cast<std::size_t>(kwEnd - kw);
+  if (kwLen == 1 && kw[0] == 'v') return vertex(kwEnd, eol);
+  if (kwLen == 1 && kw[0] == 'f') return face(kwEnd, eol);
+  return true;
+}
 
-    if (kwLen == 1 && kw[0] == 'v') {
-      double xyz[3];
-      const char* t = kwEnd;
-      for (int k = 0; k < 3; ++k) {
-        t = skipSpace(t, eol);
-        const char* te = tokenEnd(t, eol);
-        if (t == te) return lineError("vertex with fewer than 3 coordinates");
-        if (!parseDouble(t, te, xyz[k]))
-          return lineError("bad vertex coordinate '" + std::string(t, te) + "'");
-        if (!std::isfinite(xyz[k])) return lineError("non-finite vertex coordinate (NaN or Inf)");
-        t = te;
-      }
-      if (coords.size() / 3 >= limits.max_vertices)
-        return lineError(checkMeshSize(coords.size() / 3 + 1, 0, limits, "the mesh"));
-      coords.insert(coords.end(), xyz, xyz + 3);
-    } else if (kwLen == 1 && kw[0] == 'f') {
-      poly.clear();
-      const long long nv = static_cast<long long>(coords.size() / 3);
-      const char* t = skipSpace(kwEnd, eol);
-      while (t < eol) {
-        const char* te = tokenEnd(t, eol);
-        const char* slash = static_cast<const char*>(std::memchr(t, '/', static_cast<std::size_t>(te - t)));
-        const char* ie = slash ? slash : te;
-        const char* ib = t;
-        if (ib < ie && *ib == '+') ++ib;
-        long long v = 0;
-        const auto r = std::from_chars(ib, ie, v);
-        if (r.ec != std::errc() || r.ptr != ie)
-          return lineError("bad face index '" + std::string(t, te) + "'");
-        long long idx;
-        if (v > 0) {
-          idx = v - 1;  // checked against the final vertex count below
-          if (idx > maxIndex) {
-            maxIndex = idx;
-            maxIndexLine = line;
-          }
-        } else if (v < 0) {
-          idx = nv + v;  // relative to the vertices read so far
-          if (idx < 0)
-            return lineError("relative face index " + std::to_string(v) + " but only " +
-                             std::to_string(nv) + " vertices before it");
-        } else {
-          return lineError("face index 0 (OBJ indices start at 1)");
-        }
-        if (idx > std::numeric_limits<int>::max()) return lineError("face index too large");
-        poly.push_back(static_cast<int>(idx));
-        t = skipSpace(te, eol);
-      }
-      if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
-        return lineError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
-      addPolygon(poly.data(), poly.size(), tris, info);
-    }
-    p = next;
+bool ObjReader::vertex(const char* t, const char* eol) {
+  double xyz[3];
+  for (int k = 0; k < 3; ++k) {
+    t = skipSpace(t, eol);
+    const char* te = tokenEnd(t, eol);
+    if (t == te) return lineError("vertex with fewer than 3 coordinates");
+    if (!parseDouble(t, te, xyz[k]))
+      return lineError("bad vertex coordinate '" + std::string(t, te) + "'");
+    if (!std::isfinite(xyz[k])) return lineError("non-finite vertex coordinate (NaN or Inf)");
+    t = te;
   }
+  if (coords.size() / 3 >= limits.max_vertices)
+    return lineError(checkMeshSize(coords.size() / 3 + 1, 0, limits, "the mesh"));
+  coords.insert(coords.end(), xyz, xyz + 3);
+  return true;
+}
 
+bool ObjReader::face(const char* t, const char* eol) {
+  poly.clear();
+  const long long nv = static_cast<long long>(coords.size() / 3);
+  t = skipSpace(t, eol);
+  while (t < eol) {
+    const char* te = tokenEnd(t, eol);
+    if (!faceIndex(t, te, nv)) return false;
+    t = skipSpace(te, eol);
+  }
+  if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
+    return lineError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
+  addPolygon(poly.data(), poly.size(), tris, info);
+  return true;
+}
+
+bool ObjReader::faceIndex(const char* t, const char* te, long long nv) {
+  const char* slash = static_cast<const char*>(std::memchr(t, '/', static_cast<std::size_t>(te - t)));
+  const char* ie = slash ? slash : te;
+  const char* ib = t;
+  if (ib < ie && *ib == '+') ++ib;
+  long long v = 0;
+  const auto r = std::from_chars(ib, ie, v);
+  if (r.ec != std::errc() || r.ptr != ie)
+    return lineError("bad face index '" + std::string(t, te) + "'");
+  long long idx;
+  if (v > 0) {
+    idx = v - 1;  // checked against the final vertex count by checkMaxIndex
+    if (idx > maxIndex) {
+      maxIndex = idx;
+      maxIndexLine = line;
+    }
+  } else if (v < 0) {
+    idx = nv + v;  // relative to the vertices read so far
+    if (idx < 0)
+      return lineError("relative face index " + std::to_string(v) + " but only " +
+                       std::to_string(nv) + " vertices before it");
+  } else {
+    return lineError("face index 0 (OBJ indices start at 1)");
+  }
+  if (idx > std::numeric_limits<int>::max()) return lineError("face index too large");
+  poly.push_back(static_cast<int>(idx));
+  return true;
+}
+
+bool ObjReader::checkMaxIndex() {
   const long long nv = static_cast<long long>(coords.size() / 3);
   if (maxIndex >= nv) {
     line = maxIndexLine;
     return lineError("face index " + std::to_string(maxIndex + 1) + " out of range: the file has " +
                      std::to_string(nv) + " vertices");
   }
-  return finish(path, coords, tris, mesh, error, limits);
+  return true;
+}
+
+bool readObj(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
+  std::string text;
+  if (!readWholeFile(path, text, error)) return false;
+
+  ObjReader obj(limits, info);
+  obj.coords.reserve(text.size() / 12);
+  obj.tris.reserve(text.size() / 8);
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  bool ok = true;
+  while (ok && p < end) {
+    ++obj.line;
+    const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (!eol) eol = end;
+    ok = obj.readLine(p, eol);
+    p = eol < end ? eol + 1 : end;
+  }
+  if (!ok || !obj.checkMaxIndex()) {
+    error = fail(path, "line " + std::to_string(obj.line) + ": " + obj.problem);
+    return false;
+  }
+  return finish(path, obj.coords, obj.tris, mesh, error, limits);
 }
 
 // ----------------------------------------------------------------------------------------------
-// pcl::PolygonMesh -> TriMesh, reading x, y, z by name and offset (FLOAT32 or FLOAT64).
+// pcl::PolygonMesh -> TriMesh, reading x, y, z by name and offset (FLOAT32 or FLOAT64) with the
+// point record reader of point_records.h.
 
-bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, TriMesh& mesh,
-                          std::string& error, MeshReadInfo& info, const MeshLimits& limits) {
-  const pcl::PCLPointCloud2& c = pm.cloud;
-  const std::uint64_t n = static_cast<std::uint64_t>(c.width) * c.height;
+static_assert(pcl::PCLPointField::FLOAT32 == kPointFloat32 && pcl::PCLPointField::FLOAT64 == kPointFloat64,
+              "pcl::PCLPointField datatypes differ from point_records.h");
+
+// The sizes of `pm` (its `n` points and the triangles its polygons make) against the limits and
+// what a mesh can index.
+bool checkPolygonMeshSize(const std::string& path, const pcl::PolygonMesh& pm, std::uint64_t n,
+                          std::string& error, const MeshLimits& limits) {
   if (n == 0) {
     error = fail(path, "no vertices");
     return false;
@@ -299,58 +343,35 @@ bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, T
     error = fail(path, "too many vertices or triangles");
     return false;
   }
-  if (c.is_bigendian) {
-    error = fail(path, "big-endian point data is not supported");
-    return false;
-  }
-  std::uint32_t off[3];
-  std::uint8_t type[3];
+  return true;
+}
+
+// Finds the x, y and z fields of `cloud`, each FLOAT32 or FLOAT64 inside the point step.
+bool findXyzFields(const std::string& path, const PointRecords& cloud, const PointRecordField* (&xyz)[3],
+                   std::string& error) {
   const char* names[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
-    const auto it = std::find_if(c.fields.begin(), c.fields.end(),
-                                 [&](const pcl::PCLPointField& f) { return f.name == names[k]; });
-    if (it == c.fields.end()) {
+    xyz[k] = cloud.field(names[k]);
+    if (!xyz[k]) {
       error = fail(path, std::string("vertices have no '") + names[k] + "' field");
       return false;
     }
-    if (it->datatype != pcl::PCLPointField::FLOAT32 && it->datatype != pcl::PCLPointField::FLOAT64) {
-      error = fail(path, std::string("field '") + names[k] + "' is neither float32 nor float64");
-      return false;
+    switch (checkFloatField(*xyz[k], cloud.point_step)) {
+      case FloatFieldProblem::NotFloat:
+        error = fail(path, std::string("field '") + names[k] + "' is neither float32 nor float64");
+        return false;
+      case FloatFieldProblem::OutsidePointStep:
+        error = fail(path, std::string("field '") + names[k] + "' lies outside the point step");
+        return false;
+      case FloatFieldProblem::None: break;
     }
-    const std::uint32_t size = it->datatype == pcl::PCLPointField::FLOAT32 ? 4 : 8;
-    if (static_cast<std::uint64_t>(it->offset) + size > c.point_step) {
-      error = fail(path, std::string("field '") + names[k] + "' lies outside the point step");
-      return false;
-    }
-    off[k] = it->offset;
-    type[k] = it->datatype;
   }
-  const std::uint64_t rowStep = c.height > 1 ? c.row_step : static_cast<std::uint64_t>(c.width) * c.point_step;
-  if (rowStep < static_cast<std::uint64_t>(c.width) * c.point_step ||
-      c.data.size() < rowStep * (c.height - 1) + static_cast<std::uint64_t>(c.width) * c.point_step) {
-    error = fail(path, "point data shorter than the declared size");
-    return false;
-  }
+  return true;
+}
 
-  std::vector<double> coords(static_cast<std::size_t>(n) * 3);
-  std::size_t i = 0;
-  for (std::uint32_t r = 0; r < c.height; ++r)
-    for (std::uint32_t col = 0; col < c.width; ++col, ++i) {
-      const std::uint8_t* pt = c.data.data() + r * rowStep + static_cast<std::uint64_t>(col) * c.point_step;
-      for (int k = 0; k < 3; ++k) {
-        double v;
-        if (type[k] == pcl::PCLPointField::FLOAT32) {
-          float fv;
-          std::memcpy(&fv, pt + off[k], sizeof fv);
-          v = fv;
-        } else {
-          std::memcpy(&v, pt + off[k], sizeof v);
-        }
-        coords[3 * i + k] = v;
-      }
-    }
-
-  std::vector<int> tris;
+// The polygons of `pm` as triangles (fan), each index checked against the `n` points.
+bool polygonsToTriangles(const std::string& path, const pcl::PolygonMesh& pm, std::uint64_t n,
+                         std::vector<int>& tris, std::string& error, MeshReadInfo& info) {
   tris.reserve(pm.polygons.size() * 3);
   std::vector<int> poly;
   for (std::size_t p = 0; p < pm.polygons.size(); ++p) {
@@ -367,6 +388,29 @@ bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, T
     }
     addPolygon(poly.data(), poly.size(), tris, info);
   }
+  return true;
+}
+
+bool polygonMeshToTriMesh(const std::string& path, const pcl::PolygonMesh& pm, TriMesh& mesh,
+                          std::string& error, MeshReadInfo& info, const MeshLimits& limits) {
+  const PointRecords cloud = viewPointRecords(pm.cloud);
+  const std::uint64_t n = cloud.points();
+  if (!checkPolygonMeshSize(path, pm, n, error, limits)) return false;
+  if (cloud.is_bigendian) {
+    error = fail(path, "big-endian point data is not supported");
+    return false;
+  }
+  const PointRecordField* xyz[3];
+  if (!findXyzFields(path, cloud, xyz, error)) return false;
+  if (checkPointExtent(cloud) != PointExtentProblem::None) {
+    error = fail(path, "point data shorter than the declared size");
+    return false;
+  }
+
+  std::vector<double> coords(static_cast<std::size_t>(n) * 3);
+  readFloatFields(cloud, xyz, 3, [&](std::uint64_t i, int k, double v) { coords[3 * i + k] = v; });
+  std::vector<int> tris;
+  if (!polygonsToTriangles(path, pm, n, tris, error, info)) return false;
   return finish(path, coords, tris, mesh, error, limits);
 }
 
@@ -474,22 +518,94 @@ class PlyData {
   bool ascii_, swap_;
 };
 
-bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
-             const MeshLimits& limits) {
-  std::string text;
-  if (!readWholeFile(path, text, error)) return false;
-  if (text.compare(0, 3, "ply") != 0 || (text.size() > 3 && text[3] != '\n' && text[3] != '\r')) {
-    error = fail(path, "not a PLY file (it does not start with a 'ply' line)");
-    return false;
-  }
-  // Header: the lines up to "end_header".
+// A PLY header: its elements in file order and its format; the data starts at `dataStart`.
+struct PlyHeader {
   std::vector<PlyElement> elements;
   std::string format;
-  std::size_t pos = 0, headerEnd = std::string::npos, lineNo = 0;
-  auto headerError = [&](const std::string& what) {
-    error = fail(path, "PLY header line " + std::to_string(lineNo) + ": " + what);
+  std::size_t dataStart = std::string::npos;
+};
+
+// The rest of an `element NAME COUNT` line (`words`, after the keyword; `line` the whole line).
+bool plyElementLine(std::istringstream& words, const std::string& line, std::vector<PlyElement>& elements,
+                    std::string& what) {
+  PlyElement e;
+  std::string count, extra;
+  words >> e.name >> count >> extra;
+  const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
+  if (e.name.empty() || r.ec != std::errc() || r.ptr != count.data() + count.size() || !extra.empty()) {
+    what = "expected 'element NAME COUNT', got '" + line + "'";
     return false;
-  };
+  }
+  for (const PlyElement& o : elements)
+    if (o.name == e.name) {
+      what = "element '" + e.name + "' declared twice";
+      return false;
+    }
+  elements.push_back(e);
+  return true;
+}
+
+// The rest of a `property TYPE NAME` or `property list COUNT_TYPE TYPE NAME` line.
+bool plyPropertyLine(std::istringstream& words, const std::string& line, std::vector<PlyElement>& elements,
+                     std::string& what) {
+  if (elements.empty()) {
+    what = "property before any element";
+    return false;
+  }
+  PlyProperty prop;
+  std::string type, extra;
+  words >> type;
+  if (type == "list") {
+    std::string countType;
+    words >> countType >> type;
+    prop.list = true;
+    if (!plyType(countType, prop.countType) || !plyIsInteger(prop.countType)) {
+      what = "list count type '" + countType + "' is not an integer type";
+      return false;
+    }
+  }
+  if (!plyType(type, prop.type)) {
+    what = "unknown property type '" + type + "'";
+    return false;
+  }
+  words >> prop.name >> extra;
+  if (prop.name.empty() || !extra.empty()) {
+    what = "expected 'property TYPE NAME', got '" + line + "'";
+    return false;
+  }
+  elements.back().properties.push_back(prop);
+  return true;
+}
+
+// One header line after the first ("ply"), without its line break; sets `done` at end_header.
+bool plyHeaderLine(const std::string& line, PlyHeader& header, bool& done, std::string& what) {
+  std::istringstream words(line);
+  std::string key;
+  words >> key;
+  if (key == "end_header") {
+    done = true;
+    return true;
+  }
+  if (key.empty() || key == "comment" || key == "obj_info") return true;
+  if (key == "format") {
+    std::string version;
+    words >> header.format >> version;
+    const std::string& format = header.format;
+    if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian") {
+      what = "unknown format '" + format + "' (ascii, binary_little_endian or binary_big_endian)";
+      return false;
+    }
+    return true;
+  }
+  if (key == "element") return plyElementLine(words, line, header.elements, what);
+  if (key == "property") return plyPropertyLine(words, line, header.elements, what);
+  what = "unknown keyword '" + key + "'";
+  return false;
+}
+
+// The header: the lines of `text` up to "end_header".
+bool parsePlyHeader(const std::string& path, const std::string& text, PlyHeader& header, std::string& error) {
+  std::size_t pos = 0, lineNo = 0;
   while (pos < text.size()) {
     std::size_t nl = text.find('\n', pos);
     if (nl == std::string::npos) nl = text.size();
@@ -497,82 +613,54 @@ bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
     pos = nl + 1;
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
     if (lineNo == 1) continue;  // "ply"
-    if (key == "end_header") {
-      headerEnd = std::min(pos, text.size());
+    bool done = false;
+    std::string what;
+    if (!plyHeaderLine(line, header, done, what)) {
+      error = fail(path, "PLY header line " + std::to_string(lineNo) + ": " + what);
+      return false;
+    }
+    if (done) {
+      header.dataStart = std::min(pos, text.size());
       break;
     }
-    if (key.empty() || key == "comment" || key == "obj_info") continue;
-    if (key == "format") {
-      std::string version;
-      words >> format >> version;
-      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-        return headerError("unknown format '" + format + "' (ascii, binary_little_endian or binary_big_endian)");
-    } else if (key == "element") {
-      PlyElement e;
-      std::string count, extra;
-      words >> e.name >> count >> extra;
-      const auto r = std::from_chars(count.data(), count.data() + count.size(), e.count);
-      if (e.name.empty() || r.ec != std::errc() || r.ptr != count.data() + count.size() || !extra.empty())
-        return headerError("expected 'element NAME COUNT', got '" + line + "'");
-      for (const PlyElement& o : elements)
-        if (o.name == e.name) return headerError("element '" + e.name + "' declared twice");
-      elements.push_back(e);
-    } else if (key == "property") {
-      if (elements.empty()) return headerError("property before any element");
-      PlyProperty prop;
-      std::string type, extra;
-      words >> type;
-      if (type == "list") {
-        std::string countType;
-        words >> countType >> type;
-        prop.list = true;
-        if (!plyType(countType, prop.countType) || !plyIsInteger(prop.countType))
-          return headerError("list count type '" + countType + "' is not an integer type");
-      }
-      if (!plyType(type, prop.type)) return headerError("unknown property type '" + type + "'");
-      words >> prop.name >> extra;
-      if (prop.name.empty() || !extra.empty()) return headerError("expected 'property TYPE NAME', got '" + line + "'");
-      elements.back().properties.push_back(prop);
-    } else {
-      return headerError("unknown keyword '" + key + "'");
-    }
   }
-  if (headerEnd == std::string::npos) {
+  if (header.dataStart == std::string::npos) {
     error = fail(path, "PLY header has no 'end_header' line");
     return false;
   }
-  if (format.empty()) {
+  if (header.format.empty()) {
     error = fail(path, "PLY header has no 'format' line");
     return false;
   }
-  const bool ascii = format == "ascii";
-  const std::uint64_t body = text.size() - headerEnd;
+  return true;
+}
 
-  // Sizes before anything is allocated: the limits, then what the data can hold.
-  const PlyElement* vertexElement = nullptr;
-  const PlyElement* faceElement = nullptr;
-  for (const PlyElement& e : elements) {
-    if (e.name == "vertex") vertexElement = &e;
-    if (e.name == "face") faceElement = &e;
+// The element called `name`, or nullptr (names are unique).
+const PlyElement* plyElement(const PlyHeader& header, const char* name) {
+  for (const PlyElement& e : header.elements)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+// Sizes before anything is allocated: the declared counts (`nv` vertices, `nf` faces) against
+// the limits, then against what the `body` bytes after the header can hold.
+bool checkPlySizes(const std::string& path, const PlyHeader& header, std::uint64_t nv, std::uint64_t nf,
+                   std::uint64_t body, const MeshLimits& limits, std::string& error) {
+  for (const PlyElement& e : header.elements)
     if (e.count > limits.max_vertices + limits.max_faces) {
       error = fail(path, "PLY header declares " + std::to_string(e.count) + " '" + e.name +
                              "' elements, over the limits (MeshLimits)");
       return false;
     }
-  }
-  const std::uint64_t nv = vertexElement ? vertexElement->count : 0;
-  const std::uint64_t nf = faceElement ? faceElement->count : 0;
   const std::string tooBig = checkMeshSize(nv, nf, limits, "the PLY header: the mesh");
   if (!tooBig.empty()) {
     error = fail(path, tooBig);
     return false;
   }
+  const bool ascii = header.format == "ascii";
   std::uint64_t needed = 0;  // counts are within the limits here: no overflow
-  for (const PlyElement& e : elements)
+  for (const PlyElement& e : header.elements)
     for (const PlyProperty& prop : e.properties)
       needed += e.count * (ascii ? 2 : plySize(prop.list ? prop.countType : prop.type));
   if (ascii && needed > 0) needed -= 1;  // the last value needs no separator
@@ -582,87 +670,151 @@ bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshRea
                            std::to_string(body) + " bytes follow it");
     return false;
   }
+  return true;
+}
+
+// The indices of the first scalar x, y and z properties of the vertex element.
+bool findPlyXyz(const std::string& path, const PlyElement& vertexElement, int (&xyz)[3], std::string& error) {
+  for (std::size_t k = 0; k < vertexElement.properties.size(); ++k) {
+    const PlyProperty& prop = vertexElement.properties[k];
+    for (int c = 0; c < 3; ++c)
+      if (prop.name == std::string(1, static_cast<char>('x' + c)) && !prop.list && xyz[c] < 0)
+        xyz[c] = static_cast<int>(k);
+  }
+  for (int c = 0; c < 3; ++c)
+    if (xyz[c] < 0) {
+      error = fail(path, std::string("PLY vertex element has no scalar '") + static_cast<char>('x' + c) +
+                             "' property");
+      return false;
+    }
+  return true;
+}
+
+// Reads the rows of the data after the header: the vertices' x, y, z into `coords`, the faces'
+// polygons (from their first `vertex_indices` / `vertex_index` list) as triangles into `tris`;
+// everything else is read and skipped. `problem` says what is wrong in the row.
+struct PlyRows {
+  PlyRows(PlyData& d, bool a, std::uint64_t n, const int (&c)[3], const MeshLimits& l, MeshReadInfo& i)
+      : data(d), ascii(a), nv(n), xyz{c[0], c[1], c[2]}, limits(l), info(i) {}
+
+  // Row `row` of element `e`.
+  bool read(const PlyElement& e, std::uint64_t row, bool isVertex, bool isFace);
+  // A list property of row `row`; its items are the row's polygon when `isFace`, no polygon was
+  // read yet (`facePolygon`, then set) and the property is the vertex indices.
+  bool list(const PlyProperty& prop, std::uint64_t row, bool isFace, bool& facePolygon);
+  bool dataError(const std::string& what) {
+    problem = what;
+    return false;
+  }
+
+  PlyData& data;
+  const bool ascii;
+  const std::uint64_t nv;
+  const int xyz[3];
+  const MeshLimits& limits;
+  MeshReadInfo& info;
+  std::vector<double> coords;
+  std::vector<int> tris;
+  std::vector<int> poly;
+  std::string problem;
+};
+
+bool PlyRows::read(const PlyElement& e, std::uint64_t row, bool isVertex, bool isFace) {
+  double xyzRow[3] = {0, 0, 0};
+  bool facePolygon = false;
+  for (std::size_t k = 0; k < e.properties.size(); ++k) {
+    const PlyProperty& prop = e.properties[k];
+    if (prop.list) {
+      if (!list(prop, row, isFace, facePolygon)) return false;
+      continue;
+    }
+    double v = 0;
+    if (!data.value(prop.type, v))
+      return dataError(data.atEnd() ? "the data ends early" : "bad value for '" + prop.name + "'");
+    if (isVertex)
+      for (int c = 0; c < 3; ++c)
+        if (static_cast<int>(k) == xyz[c]) xyzRow[c] = v;
+  }
+  if (isVertex) {
+    if (!std::isfinite(xyzRow[0]) || !std::isfinite(xyzRow[1]) || !std::isfinite(xyzRow[2]))
+      return dataError("non-finite vertex coordinate (NaN or Inf)");
+    coords.insert(coords.end(), xyzRow, xyzRow + 3);
+  }
+  if (facePolygon) {
+    if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
+      return dataError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
+    addPolygon(poly.data(), poly.size(), tris, info);
+  }
+  return true;
+}
+
+bool PlyRows::list(const PlyProperty& prop, std::uint64_t row, bool isFace, bool& facePolygon) {
+  double count = 0;
+  if (!data.value(prop.countType, count))
+    return dataError(data.atEnd() ? "the data ends early" : "bad list length for '" + prop.name + "'");
+  if (count < 0) return dataError("negative list length " + std::to_string(static_cast<long long>(count)));
+  const std::uint64_t n = static_cast<std::uint64_t>(count);
+  const std::uint64_t itemBytes = ascii ? 1 : plySize(prop.type);
+  if (n * itemBytes > data.remaining())
+    return dataError("a list of " + std::to_string(n) + " items runs past the end of the file");
+  const bool indices =
+      isFace && !facePolygon && (prop.name == "vertex_indices" || prop.name == "vertex_index");
+  if (indices && !plyIsInteger(prop.type))
+    return dataError("'" + prop.name + "' holds non-integer values");
+  if (indices) poly.resize(static_cast<std::size_t>(n));
+  double v = 0;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    if (!data.value(prop.type, v))
+      return dataError(data.atEnd() ? "the data ends early" : "bad list item in '" + prop.name + "'");
+    if (!indices) continue;
+    if (v < 0 || v >= static_cast<double>(nv))
+      return dataError("polygon " + std::to_string(row) + " refers to vertex " +
+                       std::to_string(static_cast<long long>(v)) + " but the file has " + std::to_string(nv) +
+                       " vertices");
+    poly[static_cast<std::size_t>(i)] = static_cast<int>(v);
+  }
+  if (indices) facePolygon = true;
+  return true;
+}
+
+bool readPly(const std::string& path, TriMesh& mesh, std::string& error, MeshReadInfo& info,
+             const MeshLimits& limits) {
+  std::string text;
+  if (!readWholeFile(path, text, error)) return false;
+  if (text.compare(0, 3, "ply") != 0 || (text.size() > 3 && text[3] != '\n' && text[3] != '\r')) {
+    error = fail(path, "not a PLY file (it does not start with a 'ply' line)");
+    return false;
+  }
+  PlyHeader header;
+  if (!parsePlyHeader(path, text, header, error)) return false;
+  const bool ascii = header.format == "ascii";
+  const PlyElement* vertexElement = plyElement(header, "vertex");
+  const PlyElement* faceElement = plyElement(header, "face");
+  const std::uint64_t nv = vertexElement ? vertexElement->count : 0;
+  const std::uint64_t nf = faceElement ? faceElement->count : 0;
+  if (!checkPlySizes(path, header, nv, nf, text.size() - header.dataStart, limits, error)) return false;
   if (!vertexElement) {
     error = fail(path, "no vertices (the PLY header has no 'vertex' element)");
     return false;
   }
   int xyz[3] = {-1, -1, -1};
-  for (std::size_t k = 0; k < vertexElement->properties.size(); ++k) {
-    const PlyProperty& prop = vertexElement->properties[k];
-    for (int c = 0; c < 3; ++c)
-      if (prop.name == std::string(1, static_cast<char>('x' + c)) && !prop.list && xyz[c] < 0) xyz[c] = static_cast<int>(k);
-  }
-  for (int c = 0; c < 3; ++c)
-    if (xyz[c] < 0) {
-      error = fail(path, std::string("PLY vertex element has no scalar '") + static_cast<char>('x' + c) + "' property");
-      return false;
-    }
+  if (!findPlyXyz(path, *vertexElement, xyz, error)) return false;
 
   // Data.
   const bool hostLittle = hostIsLittleEndian();
-  const bool swap = !ascii && ((format == "binary_little_endian") != hostLittle);
-  PlyData data(text.data() + headerEnd, text.data() + text.size(), ascii, swap);
-  std::vector<double> coords;
-  coords.reserve(static_cast<std::size_t>(3 * nv));
-  std::vector<int> tris;
-  std::vector<int> poly;
-  for (const PlyElement& e : elements) {
+  const bool swap = !ascii && ((header.format == "binary_little_endian") != hostLittle);
+  PlyData data(text.data() + header.dataStart, text.data() + text.size(), ascii, swap);
+  PlyRows rows(data, ascii, nv, xyz, limits, info);
+  rows.coords.reserve(static_cast<std::size_t>(3 * nv));
+  for (const PlyElement& e : header.elements) {
     const bool isVertex = &e == vertexElement, isFace = &e == faceElement;
-    for (std::uint64_t row = 0; row < e.count; ++row) {
-      auto dataError = [&](const std::string& what) {
-        error = fail(path, "PLY element '" + e.name + "' row " + std::to_string(row) + ": " + what);
+    for (std::uint64_t row = 0; row < e.count; ++row)
+      if (!rows.read(e, row, isVertex, isFace)) {
+        error = fail(path, "PLY element '" + e.name + "' row " + std::to_string(row) + ": " + rows.problem);
         return false;
-      };
-      double xyzRow[3] = {0, 0, 0};
-      bool facePolygon = false;
-      for (std::size_t k = 0; k < e.properties.size(); ++k) {
-        const PlyProperty& prop = e.properties[k];
-        double v = 0;
-        if (!prop.list) {
-          if (!data.value(prop.type, v))
-            return dataError(data.atEnd() ? "the data ends early" : "bad value for '" + prop.name + "'");
-          if (isVertex)
-            for (int c = 0; c < 3; ++c)
-              if (static_cast<int>(k) == xyz[c]) xyzRow[c] = v;
-          continue;
-        }
-        double count = 0;
-        if (!data.value(prop.countType, count))
-          return dataError(data.atEnd() ? "the data ends early" : "bad list length for '" + prop.name + "'");
-        if (count < 0) return dataError("negative list length " + std::to_string(static_cast<long long>(count)));
-        const std::uint64_t n = static_cast<std::uint64_t>(count);
-        const std::uint64_t itemBytes = ascii ? 1 : plySize(prop.type);
-        if (n * itemBytes > data.remaining())
-          return dataError("a list of " + std::to_string(n) + " items runs past the end of the file");
-        const bool indices = isFace && !facePolygon && (prop.name == "vertex_indices" || prop.name == "vertex_index");
-        if (indices && !plyIsInteger(prop.type))
-          return dataError("'" + prop.name + "' holds non-integer values");
-        if (indices) poly.resize(static_cast<std::size_t>(n));
-        for (std::uint64_t i = 0; i < n; ++i) {
-          if (!data.value(prop.type, v))
-            return dataError(data.atEnd() ? "the data ends early" : "bad list item in '" + prop.name + "'");
-          if (!indices) continue;
-          if (v < 0 || v >= static_cast<double>(nv))
-            return dataError("polygon " + std::to_string(row) + " refers to vertex " +
-                             std::to_string(static_cast<long long>(v)) + " but the file has " + std::to_string(nv) +
-                             " vertices");
-          poly[static_cast<std::size_t>(i)] = static_cast<int>(v);
-        }
-        if (indices) facePolygon = true;
       }
-      if (isVertex) {
-        if (!std::isfinite(xyzRow[0]) || !std::isfinite(xyzRow[1]) || !std::isfinite(xyzRow[2]))
-          return dataError("non-finite vertex coordinate (NaN or Inf)");
-        coords.insert(coords.end(), xyzRow, xyzRow + 3);
-      }
-      if (facePolygon) {
-        if (poly.size() > 2 && tris.size() / 3 + (poly.size() - 2) > limits.max_faces)
-          return dataError(checkMeshSize(0, tris.size() / 3 + (poly.size() - 2), limits, "the mesh"));
-        addPolygon(poly.data(), poly.size(), tris, info);
-      }
-    }
   }
-  return finish(path, coords, tris, mesh, error, limits);
+  return finish(path, rows.coords, rows.tris, mesh, error, limits);
 }
 
 // Whether VTK's vtkSTLReader will read `head` (the file's first up to 256 bytes) as binary STL:
