@@ -1,6 +1,7 @@
 // `tryon`: the core without ROS, for batch use. See `tryon --help`.
 // Exit codes: 0 converged / clean, 3 not converged / not clean, 2 bad input or usage.
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/drape/pattern.h"
@@ -22,6 +23,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace vt = virtual_tryon;
 
@@ -139,8 +141,9 @@ vt::MeshLimits meshLimits(const std::map<std::string, std::string>& opt) {
   return l;
 }
 
-// Reads and checks a mesh ("body": validateBody; else validate); warnings go to stderr.
-vt::TriMesh load(const std::string& path, const std::string& what, const vt::MeshLimits& limits) {
+// Reads a mesh file; `what` ("body", "garment") names it in the error and the warning about
+// dropped polygons.
+vt::TriMesh readMeshFile(const std::string& path, const std::string& what, const vt::MeshLimits& limits) {
   vt::TriMesh m;
   std::string err;
   vt::MeshReadInfo info;
@@ -148,10 +151,28 @@ vt::TriMesh load(const std::string& path, const std::string& what, const vt::Mes
   if (info.polygons_dropped > 0)
     warn(what + ": " + std::to_string(info.polygons_dropped) + " of " + std::to_string(info.polygons_read) +
          " polygons have fewer than 3 vertices and were dropped");
-  const vt::MeshValidation val = what == "body" ? vt::validateBody(m, limits) : vt::validate(m, what, limits);
+  return m;
+}
+
+// Reads and checks a garment (validate); warnings go to stderr.
+vt::TriMesh loadGarment(const std::string& path, const vt::MeshLimits& limits) {
+  vt::TriMesh m = readMeshFile(path, "garment", limits);
+  const vt::MeshValidation val = vt::validate(m, "garment", limits);
   if (!val.ok) throw std::invalid_argument(val.message);
   for (const std::string& w : val.warnings) warn(w);
   return m;
+}
+
+// Reads and prepares the body (prepareBody; an inside-out body is refused, not flipped); warnings
+// go to stderr.
+vt::BodyPreparation loadBody(const std::string& path, const vt::MeshLimits& limits) {
+  vt::BodyPreparationParams params;
+  params.limits = limits;
+  params.policy = vt::InsideOutPolicy::Refuse;
+  vt::BodyPreparation body = vt::prepareBody(readMeshFile(path, "body", limits), params);
+  if (!body.ok) throw std::invalid_argument(body.error);
+  for (const std::string& w : body.warnings) warn(w);
+  return body;
 }
 
 void save(const std::string& path, const vt::TriMesh& m) {
@@ -173,10 +194,10 @@ int resolve(const std::map<std::string, std::string>& opt) {
   const std::string out = required(opt, "out");
   const vt::ResolverParams params = resolverParams(opt);
   const vt::MeshLimits limits = meshLimits(opt);
-  const vt::TriMesh bodyMesh = load(bodyPath, "body", limits);
-  vt::TriMesh garment = load(garmentPath, "garment", limits);
-  for (const std::string& w : vt::placementWarnings(bodyMesh, garment)) warn(w);
-  vt::Body body(bodyMesh);
+  vt::BodyPreparation prepared = loadBody(bodyPath, limits);
+  vt::TriMesh garment = loadGarment(garmentPath, limits);
+  for (const std::string& w : vt::placementWarnings(prepared.mesh, garment)) warn(w);
+  vt::Body body(std::move(prepared.mesh));
   const vt::ResolverReport rep = vt::resolvePenetrations(body, garment, params);
   save(out, garment);
   std::cout << vt::toJson(rep) << std::endl;
@@ -185,9 +206,9 @@ int resolve(const std::map<std::string, std::string>& opt) {
 
 int check(const std::map<std::string, std::string>& opt) {
   const vt::MeshLimits limits = meshLimits(opt);
-  const vt::TriMesh body = load(required(opt, "body"), "body", limits);
-  const vt::TriMesh garment = load(required(opt, "garment"), "garment", limits);
-  const vt::ReferenceCounts c = vt::referenceCounts(body, garment, vt::edgeTopology(body).closed());
+  const vt::BodyPreparation body = loadBody(required(opt, "body"), limits);
+  const vt::TriMesh garment = loadGarment(required(opt, "garment"), limits);
+  const vt::ReferenceCounts c = vt::referenceCounts(body.mesh, garment, body.check.closed);
   std::cout << vt::toJson(c) << std::endl;
   return (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) == 0 ? 0 : 3;
 }
@@ -223,7 +244,7 @@ int drape(const std::map<std::string, std::string>& opt) {
   vt::Pattern pattern;
   std::string err;
   if (!vt::readPatternYaml(patternPath, pattern, err)) throw std::invalid_argument(err);
-  const vt::Body body(load(bodyPath, "body", p.limits));
+  const vt::Body body(loadBody(bodyPath, p.limits).mesh);
   vt::TriMesh garment;
   auto last = std::chrono::steady_clock::now();
   const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {

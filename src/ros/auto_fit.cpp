@@ -16,10 +16,6 @@ namespace {
 
 namespace rc = ros_conversions;
 
-std::string frameOf(const pcl_msgs::PolygonMesh& msg) {
-  return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
-}
-
 }  // namespace
 
 void TryonNode::onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg) {

@@ -1,10 +1,11 @@
 // TryonNode's body inputs: ~body_mesh (a meshed scan) and ~body_scan (a raw scan, meshed here with
-// PCL). The callbacks only queue; the worker converts, checks (closed, orientation, degenerate
-// faces), flips an inverted body, and installs the body. An unchanged body or scan costs a
+// PCL). The callbacks only queue; the worker converts, prepares the body in the core (prepareBody:
+// validated once, checked, an inverted body flipped), and installs it. An unchanged body or scan costs a
 // comparison. The rest of the node is in tryon_node.cpp.
-#include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/body/scan_meshing.h"
 #include "virtual_tryon/ros/conversions.h"
+#include "virtual_tryon/ros/report_conversions.h"
 #include "virtual_tryon/ros/tryon_node.h"
 
 #include <algorithm>
@@ -38,35 +39,11 @@ std::uint64_t scanHash(const sensor_msgs::PointCloud2& c) {
 
 }  // namespace
 
-bool TryonNode::inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report,
-                            std::vector<std::string>& warnings, std::string& error) const {
-  BodyCheckParams checkParams;
-  checkParams.limits = settings_.limits;
-  const BodyCheck check = orientBody(mesh, checkParams);
-  report.vertices = static_cast<std::uint32_t>(mesh.numVertices());
-  report.faces = static_cast<std::uint32_t>(mesh.numFaces());
-  report.closed = check.closed;
-  report.boundary_edges = static_cast<std::uint32_t>(check.boundary_edges);
-  report.non_manifold_edges = static_cast<std::uint32_t>(check.non_manifold_edges);
-  report.degenerate_faces = static_cast<std::uint32_t>(check.degenerate_faces);
-  report.components = static_cast<std::uint32_t>(check.pieces);
-  report.signed_volume = check.signed_volume;
-  report.flipped = check.flipped;
-  report.summary = check.summary;
-  if (!check.ok) {
-    error = "body: " + check.message;
-    return false;
-  }
-  // What a body needs beyond a usable mesh (open, non-manifold, pieces, units), after flipping.
-  const MeshValidation v = validateBody(mesh, settings_.limits);
-  if (!v.ok) {
-    error = v.message;
-    return false;
-  }
-  warnings = v.warnings;
-  if (check.flipped)
-    warnings.insert(warnings.begin(), "body arrived inside out (inward normals) and was flipped");
-  return true;
+BodyPreparationParams TryonNode::bodyPreparation() const {
+  BodyPreparationParams params;
+  params.limits = settings_.limits;
+  params.policy = InsideOutPolicy::Flip;
+  return params;
 }
 
 void TryonNode::onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
@@ -80,8 +57,6 @@ void TryonNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
 void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
   TriMesh mesh;
   std::string frame, error;
-  virtual_tryon::BodyReport report;
-  report.source = "mesh";
   if (!rc::fromMsg(*msg, mesh, error, settings_.limits)) error = "body: " + error;
   else if (bodyFrame(*msg, frame, error)) {
     {
@@ -93,12 +68,12 @@ void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) 
         return;
       }
     }
-    const MeshValidation v = validate(mesh, "body", settings_.limits);
-    if (!v.ok) error = v.message;
-    else if (std::vector<std::string> warnings; inspectBody(mesh, report, warnings, error)) {
-      installBody(std::move(mesh), frame, std::move(report), std::move(warnings));
+    BodyPreparation prep = prepareBody(std::move(mesh), bodyPreparation());
+    if (prep.ok) {
+      installBody(std::move(prep.mesh), frame, rc::toMsg(prep.check, "mesh"), std::move(prep.warnings));
       return;
     }
+    error = prep.error;
   }
   ROS_ERROR_STREAM("tryon_node: rejected message on " << body_sub_.getTopic() << ": " << error
                                                       << " (keeping the previous body)");
@@ -128,26 +103,27 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
     if (!scan.success) {
       error = "scan: " + scan.message;
     } else {
-      TriMesh mesh = scan.mesh;
-      virtual_tryon::BodyReport report;
-      report.source = "scan";
-      report.scan_points = static_cast<std::uint32_t>(scan.input_points);
-      report.scan_points_used = static_cast<std::uint32_t>(scan.points_after_downsampling);
-      report.normals_estimated = scan.normals_estimated;
-      report.seconds_meshing = scan.seconds_total;
-      std::vector<std::string> warnings;
-      if (inspectBody(mesh, report, warnings, error)) {
+      BodyPreparation prep = prepareBody(scan.mesh, bodyPreparation());
+      if (prep.ok) {
+        virtual_tryon::BodyReport report = rc::toMsg(prep.check, "scan");
+        report.scan_points = static_cast<std::uint32_t>(scan.input_points);
+        report.scan_points_used = static_cast<std::uint32_t>(scan.points_after_downsampling);
+        report.normals_estimated = scan.normals_estimated;
+        report.seconds_meshing = scan.seconds_total;
         ROS_INFO("tryon_node: scan meshed: %zu points (%zu used), %s, %.2f s",
-                 static_cast<std::size_t>(scan.input_points), static_cast<std::size_t>(scan.points_after_downsampling),
+                 static_cast<std::size_t>(scan.input_points),
+                 static_cast<std::size_t>(scan.points_after_downsampling),
                  scan.normals_estimated ? "normals estimated" : "normals from the scan",
                  scan.seconds_total);
         {
           std::lock_guard<std::mutex> lock(mutex_);
           last_scan_hash_ = hash;
         }
-        installBody(std::move(mesh), frame, std::move(report), std::move(warnings));
+        installBody(std::move(prep.mesh), frame, std::move(report), std::move(prep.warnings));
         return;
       }
+      // An unusable mesh is named as the body's; an inside-out one says so itself.
+      error = prep.check.ok ? prep.error : "body: " + prep.error;
     }
   }
   ROS_ERROR_STREAM("tryon_node: rejected message on " << scan_sub_.getTopic() << ": " << error

@@ -1,5 +1,6 @@
 // TryonNode's ~drape service (Vassilev et al. 2001 through the core's drape()) and its drape/
 // parameters. The rest of the node is in tryon_node.cpp.
+#include "virtual_tryon/core/io/report_summary.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
 #include "virtual_tryon/ros/report_conversions.h"
@@ -90,6 +91,31 @@ void moveOutput(Output& out, Response& r) {
   r.message = std::move(out.message);
   r.garment = std::move(out.garment);
   r.report = std::move(out.report);
+}
+
+// Converts and validates a pattern message; errors start with "pattern: ".
+bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, Pattern& pattern, std::string& error) {
+  if (!rc::fromMsg(msg, pattern, error)) {
+    error = "pattern: " + error;
+    return false;
+  }
+  error = validatePattern(pattern);
+  if (!error.empty()) {
+    error = "pattern: " + error;
+    return false;
+  }
+  return true;
+}
+
+void logDrape(const DrapeResult& report) {
+  ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
+           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %s",
+           report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
+           report.penetrating_before_resolve, report.penetrating_after,
+           report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
+           report.converged ? "converged" : "NOT converged");
+  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
+  for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
 }
 
 }  // namespace
@@ -199,10 +225,9 @@ void TryonNode::drapeCaught(const DrapeInput& in, DrapeOutput& out,
   }
 }
 
-bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgressCallback& progress,
-                      bool publish, std::string& error) {
-  // Parameters: zero / empty request fields keep the node's.
-  DrapeParams params = settings_.drape;
+bool TryonNode::drapeParams(const DrapeInput& req, DrapeParams& params, std::string& error) const {
+  // Zero / empty request fields keep the node's.
+  params = settings_.drape;
   if (req.spacing != 0) params.spacing = req.spacing;
   if (req.dt != 0) params.dt = req.dt;
   if (!req.collision_mode.empty() && !rc::parseCollisionMode(req.collision_mode, params.mode)) {
@@ -215,27 +240,21 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
         std::min<std::uint32_t>(req.max_iterations, std::numeric_limits<int>::max()));
   if (req.skip_resolve) params.resolve = false;
   error = validateDrapeParams(params);
-  if (!error.empty()) return false;
+  return error.empty();
+}
 
+bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgressCallback& progress,
+                      bool publish, std::string& error) {
+  DrapeParams params;
   Pattern pattern;
-  if (!rc::fromMsg(*req.pattern, pattern, error)) {
-    error = "pattern: " + error;
-    return false;
-  }
-  error = validatePattern(pattern);
-  if (!error.empty()) {
-    error = "pattern: " + error;
-    return false;
-  }
   BodyState body;
-  if (!requestBody(*req.body, body, error)) return false;
+  if (!drapeParams(req, params, error) || !patternFromMsg(*req.pattern, pattern, error) ||
+      !requestBody(*req.body, body, error))
+    return false;
   const std::string& patternFrame = req.pattern->header.frame_id;
-  if (!patternFrame.empty() && patternFrame != body.frame) {
-    Eigen::Isometry3d T;
-    if (!lookupTransform(patternFrame, body.frame, "pattern", req.pattern->header.stamp, T, error))
-      return false;
-    for (PatternPanel& panel : pattern.panels) panel.placement.pose = T * panel.placement.pose;
-  }
+  if (!patternFrame.empty() && patternFrame != body.frame &&
+      !transformInto(patternFrame, body.frame, req.pattern->header.stamp, pattern, error))
+    return false;
 
   const int rendersBefore = body.body->depthMapRenders();
   TriMesh garment;
@@ -246,12 +265,8 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   res.success = report.success;
   res.report = rc::toMsg(report, params.mode);
   res.report.body = body.report;
-  res.message = report.message;
-  for (const std::string& w : body.warnings) {
-    res.report.warnings.push_back(w);
-    res.message += "; warning: " + w;
-  }
-  for (const std::string& w : report.warnings) res.message += "; warning: " + w;
+  for (const std::string& w : body.warnings) res.report.warnings.push_back(w);
+  res.message = drapeMessage(report, body.warnings, params.mode, rendered);
   virtual_tryon::FitReport fit;
   fit.kind = "drape";
   fit.body = body.report;
@@ -265,21 +280,11 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
     }
     return true;
   }
-  if (params.mode == CollisionMode::ImageSpace)
-    res.message += rendered ? "; depth maps rendered (" + std::to_string(report.map_size) + " px)"
-                            : "; depth maps reused (cached with the body)";
   std_msgs::Header header;
   header.frame_id = body.frame;
   header.stamp = ros::Time::now();
   rc::toMsg(garment, header, res.garment);
-  ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
-           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %s",
-           report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
-           report.penetrating_before_resolve, report.penetrating_after,
-           report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
-           report.converged ? "converged" : "NOT converged");
-  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
-  for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
+  logDrape(report);
 
   if (publish) {
     fit.header = header;

@@ -17,6 +17,22 @@ std::uint32_t u32(int n) { return n < 0 ? 0u : u32(static_cast<std::size_t>(n));
 
 }  // namespace
 
+virtual_tryon::BodyReport toMsg(const BodyCheck& check, const std::string& source) {
+  virtual_tryon::BodyReport m;
+  m.source = source;
+  m.vertices = u32(check.vertices);
+  m.faces = u32(check.faces);
+  m.closed = check.closed;
+  m.boundary_edges = u32(check.boundary_edges);
+  m.non_manifold_edges = u32(check.non_manifold_edges);
+  m.degenerate_faces = u32(check.degenerate_faces);
+  m.components = u32(check.pieces);
+  m.signed_volume = check.signed_volume;
+  m.flipped = check.flipped;
+  m.summary = check.summary;
+  return m;
+}
+
 virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   virtual_tryon::PenetrationReport m;
   m.converged = r.converged;

@@ -1,5 +1,8 @@
 #include "virtual_tryon/ros/tryon_node.h"
 
+#include "virtual_tryon/core/drape/pattern_transform.h"
+#include "virtual_tryon/core/geometry/rigid_transform.h"
+#include "virtual_tryon/core/io/report_summary.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/report_conversions.h"
 
@@ -23,29 +26,26 @@ bool isEmpty(const pcl_msgs::PolygonMesh& msg) {
          static_cast<std::uint64_t>(msg.cloud.width) * msg.cloud.height == 0;
 }
 
-// The message's frame: its own header, else the cloud's.
-std::string frameOf(const pcl_msgs::PolygonMesh& msg) {
-  return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
-}
-
 bool sameMesh(const TriMesh& a, const TriMesh& b) {
   return a.V.rows() == b.V.rows() && a.F.rows() == b.F.rows() && a.V == b.V && a.F == b.F;
 }
 
-// Converts and validates; `what` ("body", "garment") prefixes the error.
+// Converts and validates; `what` ("body", "garment") prefixes the error. `validation` (may be
+// null) receives validate()'s result.
 bool meshFromMsg(const pcl_msgs::PolygonMesh& msg, const std::string& what, const MeshLimits& limits,
-                 TriMesh& mesh, std::string& error) {
+                 TriMesh& mesh, std::string& error, MeshValidation* validation = nullptr) {
   if (!rc::fromMsg(msg, mesh, error, limits)) {
     error = what + ": " + error;
     return false;
   }
-  // A body is checked further (and flipped if inside out) by inspectBody.
-  const MeshValidation v = validate(mesh, what, limits);
+  // A body is checked further (and flipped if inside out) by prepareBody, without validating again.
+  MeshValidation v = validate(mesh, what, limits);
   if (!v.ok) {
     error = v.message;
     return false;
   }
   if (!v.message.empty()) ROS_WARN_STREAM("tryon_node: " << v.message);
+  if (validation) *validation = std::move(v);
   return true;
 }
 
@@ -71,22 +71,6 @@ int readCount(const ros::NodeHandle& pnh, const std::string& name, int def) {
   return v;
 }
 
-// The input warnings for a response message ("; warning: ..." each, "" when none): the body's
-// (found when it was installed: flipped, degenerate or duplicate faces, open or non-manifold,
-// several pieces, a size that suggests millimetres), the garment's validation warnings and, with a
-// garment, how the two are placed.
-std::string inputWarnings(const std::vector<std::string>& bodyWarnings, const TriMesh& body,
-                          const TriMesh* garment, const MeshLimits& limits) {
-  std::vector<std::string> w = bodyWarnings;
-  if (garment) {
-    for (const std::string& g : validate(*garment, "garment", limits).warnings) w.push_back(g);
-    for (const std::string& g : placementWarnings(body, *garment)) w.push_back(g);
-  }
-  std::string s;
-  for (const std::string& x : w) s += "; warning: " + x;
-  return s;
-}
-
 std::string seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", s);
@@ -96,23 +80,6 @@ std::string seconds(double s) {
 std::string stampText(const ros::Time& t) {
   char buf[48];
   std::snprintf(buf, sizeof buf, "%u.%03u", t.sec, t.nsec / 1000000u);
-  return buf;
-}
-
-std::string summary(const ResolverReport& r) {
-  char buf[320];
-  if (r.converged)
-    std::snprintf(buf, sizeof buf,
-                  "resolved %zu garment-edge + %zu body-edge crossings in %d iterations "
-                  "(%zu vertices moved, max %.4f m, clearance %.4g m) in %.3f s",
-                  r.garment_edge_crossings_before, r.body_edge_crossings_before, r.iterations,
-                  r.moved_vertices, r.max_displacement, r.clearance, r.seconds_total);
-  else
-    std::snprintf(buf, sizeof buf,
-                  "not converged after %d iterations: %s (%zu garment-edge + %zu body-edge "
-                  "crossings left)",
-                  r.iterations, r.reason.c_str(), r.garment_edge_crossings_after,
-                  r.body_edge_crossings_after);
   return buf;
 }
 
@@ -149,6 +116,10 @@ TryonNode::TryonNode(ros::NodeHandle nh, ros::NodeHandle pnh)
                                                  << ", " << garment_sub_.getTopic() << ", "
                                                  << pattern_sub_.getTopic() << "; auto_fit "
                                                  << (settings_.auto_fit ? "on" : "off"));
+}
+
+std::string TryonNode::frameOf(const pcl_msgs::PolygonMesh& msg) {
+  return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
 }
 
 void TryonNode::readParameters() {
@@ -228,7 +199,10 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
     return true;
   }
   TriMesh mesh;
-  if (!meshFromMsg(msg, "body", settings_.limits, mesh, error) || !bodyFrame(msg, out.frame, error)) return false;
+  MeshValidation validation;
+  if (!meshFromMsg(msg, "body", settings_.limits, mesh, error, &validation) ||
+      !bodyFrame(msg, out.frame, error))
+    return false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (topic_body_.body && sameMesh(topic_body_.body->mesh(), mesh)) {
@@ -244,10 +218,16 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
       return true;
     }
   }
-  out.report.source = "mesh";
-  if (!inspectBody(mesh, out.report, out.warnings, error)) return false;
+  // Validated above: checked (and flipped if inside out) without validating again.
+  BodyPreparation prep = prepareBody(std::move(mesh), std::move(validation), bodyPreparation());
+  if (!prep.ok) {
+    error = prep.error;
+    return false;
+  }
+  out.report = rc::toMsg(prep.check, "mesh");
+  out.warnings = std::move(prep.warnings);
   for (const std::string& w : out.warnings) ROS_WARN_STREAM("tryon_node: request: " << w);
-  out.body = std::make_shared<const Body>(std::move(mesh));
+  out.body = std::make_shared<const Body>(std::move(prep.mesh));
   std::lock_guard<std::mutex> lock(mutex_);
   request_body_ = out;
   return true;
@@ -280,7 +260,8 @@ bool TryonNode::lookupTransform(const std::string& from, const std::string& to,
         tf_buffer_.lookupTransform(to, from, stamp, ros::Duration(settings_.tf_timeout)));
   } catch (const tf2::ExtrapolationException& e) {
     error = "the transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
-            "' is stale: none at the " + what + "'s stamp " + stampText(stamp) + " s within " + seconds(settings_.tf_timeout) + " s: " + e.what();
+            "' is stale: none at the " + what + "'s stamp " + stampText(stamp) + " s within " +
+            seconds(settings_.tf_timeout) + " s: " + e.what();
     return false;
   } catch (const tf2::TransformException& e) {
     error = "no transform from the " + what + "'s frame '" + from + "' to the body's frame '" + to +
@@ -294,8 +275,15 @@ bool TryonNode::transformInto(const std::string& from, const std::string& to, co
                               TriMesh& mesh, std::string& error) {
   Eigen::Isometry3d T;
   if (!lookupTransform(from, to, "garment", stamp, T, error)) return false;
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
-    mesh.V.row(i) = (T * Eigen::Vector3d(mesh.V.row(i).transpose())).transpose();
+  transformMesh(T, mesh);
+  return true;
+}
+
+bool TryonNode::transformInto(const std::string& from, const std::string& to, const ros::Time& stamp,
+                              Pattern& pattern, std::string& error) {
+  Eigen::Isometry3d T;
+  if (!lookupTransform(from, to, "pattern", stamp, T, error)) return false;
+  transformPattern(T, pattern);
   return true;
 }
 
@@ -311,7 +299,8 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
       !transformInto(garmentFrame, body.frame, garmentHeader.stamp, garment, error))
     return false;
 
-  const std::string warnings = inputWarnings(body.warnings, body.body->mesh(), &garment, settings_.limits);
+  const std::string warnings =
+      warningSuffix(inputWarnings(body.warnings, body.body->mesh(), garment, settings_.limits));
   ResolverParams params = settings_.resolver;
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
@@ -326,7 +315,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   res.report = rc::toMsg(report);
   res.report.body = body.report;
   res.success = report.converged;
-  res.message = summary(report) + warnings;
+  res.message = resolveSummary(report) + warnings;
   ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
            "%d iterations, %.3f s, %s",
            report.garment_edge_crossings_before, report.body_edge_crossings_before,

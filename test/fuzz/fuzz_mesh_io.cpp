@@ -2,6 +2,7 @@
 // header / size checks, then PCL / VTK). The first byte picks the format ('o' OBJ, 'p' PLY,
 // 's' STL, anything else by its value mod 3); the rest is the file, written to a temporary file
 // because the readers take paths.
+#include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 

@@ -1,6 +1,7 @@
 // libFuzzer target: a serialized pcl_msgs/PolygonMesh -> ros_conversions::fromMsg -> validate,
 // validateBody, and back through toMsg (the round trip must give the same faces).
 #include "ros_wire.h"
+#include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/ros/conversions.h"
 

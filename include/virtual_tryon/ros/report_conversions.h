@@ -1,10 +1,12 @@
-// Core reports -> virtual_tryon/PenetrationReport and virtual_tryon/DrapeReport messages. Plain
-// functions, no state.
+// Core reports -> virtual_tryon/BodyReport, virtual_tryon/PenetrationReport and
+// virtual_tryon/DrapeReport messages. Plain functions, no state.
 #pragma once
 
+#include "virtual_tryon/core/body/body_check.h"
 #include "virtual_tryon/core/drape/collider.h"
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include <virtual_tryon/BodyReport.h>
 #include <virtual_tryon/DrapeReport.h>
 
 #include <virtual_tryon/PenetrationReport.h>
@@ -13,6 +15,10 @@
 
 namespace virtual_tryon {
 namespace ros_conversions {
+
+// The check's fields (counts clamped to uint32; components = pieces, summary as written) with
+// `source` ("mesh" or "scan"); the scan fields are left 0 for the caller to fill.
+virtual_tryon::BodyReport toMsg(const BodyCheck& check, const std::string& source);
 
 // Field-by-field copy; counts are clamped to the uint32 range of the message.
 virtual_tryon::PenetrationReport toMsg(const ResolverReport& report);

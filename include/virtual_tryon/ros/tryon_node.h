@@ -18,6 +18,7 @@
 #pragma once
 
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/drape/pattern.h"
@@ -108,11 +109,8 @@ class TryonNode {
   void onScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
   void installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg);
   void installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& msg);
-  // Checks (and flips if inverted) `mesh`, fills `report` and `warnings` (open, pieces, units,
-  // flipped ...); false with `error` when unusable.
-  // The node's size limits apply.
-  bool inspectBody(TriMesh& mesh, virtual_tryon::BodyReport& report, std::vector<std::string>& warnings,
-                   std::string& error) const;
+  // How the node prepares each body (prepareBody): its size limits; an inside-out body is flipped.
+  BodyPreparationParams bodyPreparation() const;
   void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report,
                    std::vector<std::string> warnings);
 
@@ -139,6 +137,9 @@ class TryonNode {
   // true even when it failed (out.success = report.success). May throw.
   bool drape(const DrapeInput& in, DrapeOutput& out, const DrapeProgressCallback& progress,
              bool publish, std::string& error);
+  // The node's drape parameters with the request's over them (zero / empty fields keep the node's);
+  // false with `error` when the result is invalid.
+  bool drapeParams(const DrapeInput& in, DrapeParams& params, std::string& error) const;
 
   // Body for a request: the topic body when the request's is empty, else a Body built from the
   // request (or a cached one when its geometry is identical).
@@ -150,10 +151,15 @@ class TryonNode {
   // Moves garment vertices from `from` into `to` with tf2; false with `error` when no transform.
   bool transformInto(const std::string& from, const std::string& to, const ros::Time& stamp,
                      TriMesh& mesh, std::string& error);
+  // The same for a pattern's panels (their poses).
+  bool transformInto(const std::string& from, const std::string& to, const ros::Time& stamp,
+                     Pattern& pattern, std::string& error);
   // The transform taking points in `from` to `to` (waits up to tf_timeout); false with an error
   // naming `what` ("garment", "pattern") and both frames.
   bool lookupTransform(const std::string& from, const std::string& to, const std::string& what,
                        const ros::Time& stamp, Eigen::Isometry3d& T, std::string& error);
+  // The message's frame: its own header's, else its cloud's.
+  static std::string frameOf(const pcl_msgs::PolygonMesh& msg);
   // The frame a body message is in, after ~body_frame; false when they conflict.
   bool bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame, std::string& error) const;
 

@@ -46,32 +46,37 @@ std::string checkMeshSize(std::uint64_t vertices, std::uint64_t faces, const Mes
   return "";
 }
 
-MeshValidation validate(const TriMesh& mesh, const std::string& what, const MeshLimits& limits) {
-  MeshValidation r;
+namespace {
+
+// The fatal checks of validate(), in order: empty, over the size limits, non-finite coordinates,
+// indices out of range. False (with r.ok = false and the message) on the first that fails;
+// `used` receives, per vertex, whether a face uses it.
+bool usable(const TriMesh& mesh, const std::string& what, const MeshLimits& limits, MeshValidation& r,
+            std::vector<char>& used) {
   std::ostringstream msg;
   if (mesh.V.rows() == 0) {
     fatal(r, what + " has no vertices");
-    return r;
+    return false;
   }
   if (mesh.F.rows() == 0) {
     fatal(r, what + " has no faces (" + std::to_string(mesh.V.rows()) + " vertices)");
-    return r;
+    return false;
   }
   const std::string tooBig = checkMeshSize(static_cast<std::uint64_t>(mesh.V.rows()),
                                            static_cast<std::uint64_t>(mesh.F.rows()), limits, what);
   if (!tooBig.empty()) {
     fatal(r, tooBig);
-    return r;
+    return false;
   }
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
     if (!mesh.V.row(i).allFinite()) ++r.non_finite_vertices;
   if (r.non_finite_vertices > 0) {
     msg << what << " has " << r.non_finite_vertices << " vertices with NaN or Inf coordinates";
     fatal(r, msg.str());
-    return r;
+    return false;
   }
   const Eigen::Index n = mesh.V.rows();
-  std::vector<char> used(static_cast<std::size_t>(n), 0);
+  used.assign(static_cast<std::size_t>(n), 0);
   Eigen::Index firstBad = -1;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
@@ -87,49 +92,60 @@ MeshValidation validate(const TriMesh& mesh, const std::string& what, const Mesh
     msg << what << " has " << r.out_of_range_indices << " vertex indices out of range [0, " << n
         << ") (first in face " << firstBad << ")";
     fatal(r, msg.str());
-    return r;
+    return false;
   }
-  Eigen::Vector3d lo, hi;
-  boundingBox(mesh, lo, hi);
-  r.extent = (hi - lo).maxCoeff();
-  const double scale = std::max((hi - lo).norm(), 1e-300);
+  return true;
+}
+
+// Degenerate faces: a repeated index, or zero area relative to the scale (the box diagonal).
+std::size_t countDegenerateFaces(const TriMesh& mesh, double scale) {
   const double areaTol = 1e-14 * scale * scale;
+  std::size_t degenerate = 0;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
     if (a == b || b == c || a == c) {
-      ++r.degenerate_faces;
+      ++degenerate;
       continue;
     }
     const Eigen::Vector3d e1 = mesh.V.row(b) - mesh.V.row(a);
     const Eigen::Vector3d e2 = mesh.V.row(c) - mesh.V.row(a);
-    if (0.5 * e1.cross(e2).norm() <= areaTol) ++r.degenerate_faces;
+    if (0.5 * e1.cross(e2).norm() <= areaTol) ++degenerate;
   }
-  // Duplicate faces: the same three vertices in any order (a face and its flipped twin too).
-  {
-    std::vector<std::array<int, 3>> faces(static_cast<std::size_t>(mesh.F.rows()));
-    for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-      std::array<int, 3>& t = faces[static_cast<std::size_t>(f)];
-      t = {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)};
-      std::sort(t.begin(), t.end());
-    }
-    std::sort(faces.begin(), faces.end());
-    for (std::size_t i = 1; i < faces.size(); ++i) r.duplicate_faces += faces[i] == faces[i - 1];
-  }
-  // Duplicate vertices: exactly the same position (not joined, so the mesh is split there).
-  {
-    std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
-    std::iota(order.begin(), order.end(), Eigen::Index(0));
-    auto less = [&](Eigen::Index a, Eigen::Index b) {
-      for (int k = 0; k < 3; ++k)
-        if (mesh.V(a, k) != mesh.V(b, k)) return mesh.V(a, k) < mesh.V(b, k);
-      return false;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t i = 1; i < order.size(); ++i)
-      r.duplicate_vertices += mesh.V.row(order[i]) == mesh.V.row(order[i - 1]);
-  }
-  r.unused_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  return degenerate;
+}
 
+// Duplicate faces: the same three vertices in any order (a face and its flipped twin too).
+std::size_t countDuplicateFaces(const TriMesh& mesh) {
+  std::vector<std::array<int, 3>> faces(static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    std::array<int, 3>& t = faces[static_cast<std::size_t>(f)];
+    t = {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)};
+    std::sort(t.begin(), t.end());
+  }
+  std::sort(faces.begin(), faces.end());
+  std::size_t duplicates = 0;
+  for (std::size_t i = 1; i < faces.size(); ++i) duplicates += faces[i] == faces[i - 1];
+  return duplicates;
+}
+
+// Duplicate vertices: exactly the same position (not joined, so the mesh is split there).
+std::size_t countDuplicateVertices(const TriMesh& mesh) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(mesh.V.rows()));
+  std::iota(order.begin(), order.end(), Eigen::Index(0));
+  auto less = [&](Eigen::Index a, Eigen::Index b) {
+    for (int k = 0; k < 3; ++k)
+      if (mesh.V(a, k) != mesh.V(b, k)) return mesh.V(a, k) < mesh.V(b, k);
+    return false;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::size_t duplicates = 0;
+  for (std::size_t i = 1; i < order.size(); ++i)
+    duplicates += mesh.V.row(order[i]) == mesh.V.row(order[i - 1]);
+  return duplicates;
+}
+
+// One sentence per warning that the counts and the extent call for, then the joined message.
+void writeWarnings(MeshValidation& r, const std::string& what) {
   if (r.degenerate_faces > 0)
     r.warnings.push_back(what + " has " + plural(r.degenerate_faces, "degenerate face", "degenerate faces") +
                          " (a repeated vertex or zero area)");
@@ -137,66 +153,33 @@ MeshValidation validate(const TriMesh& mesh, const std::string& what, const Mesh
     r.warnings.push_back(what + " has " + plural(r.duplicate_faces, "duplicate face", "duplicate faces") +
                          " (the same three vertices as another face)");
   if (r.duplicate_vertices > 0)
-    r.warnings.push_back(what + " has " + plural(r.duplicate_vertices, "duplicate vertex", "duplicate vertices") +
+    r.warnings.push_back(what + " has " +
+                         plural(r.duplicate_vertices, "duplicate vertex", "duplicate vertices") +
                          " (the same position as another vertex; faces are not joined there)");
   if (r.unused_vertices > 0)
     r.warnings.push_back(what + " has " + plural(r.unused_vertices, "unused vertex", "unused vertices") +
                          " (in no face)");
   if (r.extent > kMaxPlausibleExtent)
-    r.warnings.push_back(what + " is " + metres(r.extent) + " m long (the longest side of its bounding box); " +
+    r.warnings.push_back(what + " is " + metres(r.extent) +
+                         " m long (the longest side of its bounding box); " +
                          "coordinates are expected in metres: is it in millimetres?");
   joinWarnings(r);
-  return r;
 }
 
-MeshValidation validateBody(const TriMesh& mesh, const MeshLimits& limits) {
-  MeshValidation r = validate(mesh, "body", limits);
-  if (!r.ok) return r;
-  const EdgeTopology topo = edgeTopology(mesh);
-  if (topo.boundary_edges > 0)
-    r.warnings.push_back("body is open (" + plural(topo.boundary_edges, "boundary edge", "boundary edges") +
-                         "): garment pieces wholly inside it cannot be detected");
-  if (topo.non_manifold_edges > 0)
-    r.warnings.push_back("body is non-manifold (" +
-                         plural(topo.non_manifold_edges, "edge", "edges") +
-                         " shared by more than two faces): garment pieces wholly inside it cannot be "
-                         "detected");
-  // Pieces: connected components that have faces (unused vertices are counted above).
-  std::vector<int> label;
-  const int components = connectedComponents(mesh, label);
-  std::vector<double> volume(static_cast<std::size_t>(components), 0.0);
-  std::vector<char> hasFace(static_cast<std::size_t>(components), 0);
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                          c = mesh.V.row(mesh.F(f, 2));
-    const std::size_t piece = static_cast<std::size_t>(label[static_cast<std::size_t>(mesh.F(f, 0))]);
-    volume[piece] += a.dot(b.cross(c)) / 6.0;
-    hasFace[piece] = 1;
-  }
-  const std::size_t pieces = static_cast<std::size_t>(std::count(hasFace.begin(), hasFace.end(), 1));
-  if (pieces > 1)
-    r.warnings.push_back("body has " + std::to_string(pieces) + " separate pieces");
-  if (topo.closed()) {
-    double total = 0;
-    std::size_t inverted = 0;
-    for (std::size_t c = 0; c < volume.size(); ++c) {
-      total += volume[c];
-      inverted += hasFace[c] && volume[c] < 0;
-    }
-    const double tiny = 1e-12 * r.extent * r.extent * r.extent;
-    if (total < -tiny) {
-      fatal(r, "body is inside out: its signed volume is " + metres(total) +
-                   " m^3; faces must be wound counter-clockwise seen from outside (flip every face)");
-      r.warnings.clear();
-      return r;
-    }
-    if (!(total > tiny))
-      r.warnings.push_back("body encloses no volume (signed volume " + metres(total) + " m^3)");
-    else if (inverted > 0)
-      r.warnings.push_back("body has " + plural(inverted, "piece", "pieces") +
-                           " with negative volume (inside out, or a cavity)");
-  }
-  joinWarnings(r);
+}  // namespace
+
+MeshValidation validate(const TriMesh& mesh, const std::string& what, const MeshLimits& limits) {
+  MeshValidation r;
+  std::vector<char> used;
+  if (!usable(mesh, what, limits, r, used)) return r;
+  Eigen::Vector3d lo, hi;
+  boundingBox(mesh, lo, hi);
+  r.extent = (hi - lo).maxCoeff();
+  r.degenerate_faces = countDegenerateFaces(mesh, std::max((hi - lo).norm(), 1e-300));
+  r.duplicate_faces = countDuplicateFaces(mesh);
+  r.duplicate_vertices = countDuplicateVertices(mesh);
+  r.unused_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  writeWarnings(r, what);
   return r;
 }
 

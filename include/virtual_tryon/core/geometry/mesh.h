@@ -40,9 +40,9 @@ std::string checkMeshSize(std::uint64_t vertices, std::uint64_t faces, const Mes
                           const std::string& what = "mesh");
 
 // What validate() found. `ok` is false when the mesh cannot be used at all (empty, over the size
-// limits, non-finite coordinates, indices out of range; for a body also inside out); degenerate
-// and duplicate faces, duplicate and unused vertices, and a size that suggests millimetres are
-// warnings: counted and described in `warnings`, and the mesh stays usable.
+// limits, non-finite coordinates, indices out of range; for a body, validateBody, also inside out);
+// degenerate and duplicate faces, duplicate and unused vertices, and a size that suggests
+// millimetres are warnings: counted and described in `warnings`, and the mesh stays usable.
 struct MeshValidation {
   bool ok = true;
   std::string message;  // the fatal problem, or the warnings joined by "; " ("" when clean)
@@ -60,15 +60,11 @@ struct MeshValidation {
 // is a couple of metres, so a 1700 m body was most likely written in millimetres.
 constexpr double kMaxPlausibleExtent = 10.0;
 
-// Checks a mesh. `what` names it in the message ("body", "garment").
+// Checks a mesh. `what` names it in the message ("body", "garment"). What a body needs beyond
+// this (topology, pieces, orientation) is checked by prepareBody and validateBody
+// (body/body_preparation.h).
 MeshValidation validate(const TriMesh& mesh, const std::string& what = "mesh",
                         const MeshLimits& limits = MeshLimits());
-
-// validate(mesh, "body") plus what a body needs: edge topology (an open or non-manifold body is a
-// warning: the resolver then cannot test whether garment pieces lie inside), the number of
-// separate pieces (a warning when more than one), and orientation: a closed body whose signed
-// volume is negative is inside out, which is fatal (the resolver would push the garment in).
-MeshValidation validateBody(const TriMesh& mesh, const MeshLimits& limits = MeshLimits());
 
 // Warnings about a body and a garment together: their bounding boxes far apart (more than the
 // larger of the two extents between them: nothing will touch). Empty when none.
