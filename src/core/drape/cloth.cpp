@@ -168,6 +168,65 @@ void ClothState::fixVelocities() {
   }
 }
 
+namespace {
+
+// The seam pull while sewing, added to f4: only the lowest stage with an open seam pulls
+// (PatternSeam::stage).
+void addSeamPull(const std::vector<SeamPair>& seams, const std::vector<int>& seamStage,
+                 const MatrixX3d& x, const ClothParams& params, PaddedRows& f4) {
+  int stage = std::numeric_limits<int>::max();
+  for (const SeamPair& s : seams) stage = std::min(stage, seamStage[s.seam]);
+  for (const SeamPair& s : seams) {
+    if (seamStage[s.seam] != stage) continue;
+    const Eigen::RowVector3d d = x.row(s.b) - x.row(s.a);
+    const double len = d.norm();
+    // A constant pull of k_seam * seam_max_stretch: strong enough to finish closing a seam
+    // against the cloth's resistance, never strong enough to fling a panel across the body.
+    const double scale = len > 0 ? params.seam_max_stretch / len : 0.0;
+    const Eigen::RowVector3d f = (params.k_seam * scale) * d;
+    double* fa = f4.row(static_cast<std::size_t>(s.a));
+    double* fb = f4.row(static_cast<std::size_t>(s.b));
+    for (int k = 0; k < 3; ++k) {
+      fa[k] += f[k];
+      fb[k] -= f[k];
+    }
+  }
+}
+
+// Euler's velocity update of the first n nodes, v += dt f / m.
+void accelerate(Eigen::Index n, MatrixX3d& vel, const PaddedRows& f4, const std::vector<double>& m,
+                double dt) {
+  double* v = vel.data();
+  const double* f = f4.data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double s = dt / m[i];
+    v[3 * i + 0] += s * f[4 * i + 0];
+    v[3 * i + 1] += s * f[4 * i + 1];
+    v[3 * i + 2] += s * f[4 * i + 2];
+  }
+}
+
+// Position update and the blow-up check in one pass: false when a node is faster than
+// runawaySpeed or a value is not finite.
+bool moveNodes(MatrixX3d& pos, const MatrixX3d& vel, double dt, double runawaySpeed) {
+  const Eigen::Index n = pos.rows();
+  const double limit2 = runawaySpeed * runawaySpeed;
+  bool ok = true;
+  const double* v = vel.data();
+  double* x = pos.data();
+  for (Eigen::Index i = 0; i < 3 * n; i += 3) {
+    x[i] += dt * v[i];
+    x[i + 1] += dt * v[i + 1];
+    x[i + 2] += dt * v[i + 2];
+    const double s2 = v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2];
+    // NaN compares false: a non-finite velocity fails here, a non-finite position below.
+    if (!(s2 <= limit2) || !std::isfinite(x[i] + x[i + 1] + x[i + 2])) ok = false;
+  }
+  return ok;
+}
+
+}  // namespace
+
 bool ClothState::step(double dt, bool sewing) {
   // A finite state to fall back on, refreshed every kCheckpointEvery steps (copying the state
   // every step would cost a tenth of the step).
@@ -177,37 +236,8 @@ bool ClothState::step(double dt, bool sewing) {
   }
   ++steps_;
   computeForces(sewing);
-  if (sewing) {
-    // Only the lowest stage with an open seam pulls (PatternSeam::stage).
-    int stage = std::numeric_limits<int>::max();
-    for (const SeamPair& s : seams_) stage = std::min(stage, seam_stage_[s.seam]);
-    for (const SeamPair& s : seams_) {
-      if (seam_stage_[s.seam] != stage) continue;
-      const Eigen::RowVector3d d = x_.row(s.b) - x_.row(s.a);
-      const double len = d.norm();
-      // A constant pull of k_seam * seam_max_stretch: strong enough to finish closing a seam
-      // against the cloth's resistance, never strong enough to fling a panel across the body.
-      const double scale = len > 0 ? params_.seam_max_stretch / len : 0.0;
-      const Eigen::RowVector3d f = (params_.k_seam * scale) * d;
-      double* fa = f4_.row(static_cast<std::size_t>(s.a));
-      double* fb = f4_.row(static_cast<std::size_t>(s.b));
-      for (int k = 0; k < 3; ++k) {
-        fa[k] += f[k];
-        fb[k] -= f[k];
-      }
-    }
-  }
-  const Eigen::Index n = x_.rows();
-  {
-    double* v = v_.data();
-    const double* f = f4_.data();
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double s = dt / m_[i];
-      v[3 * i + 0] += s * f[4 * i + 0];
-      v[3 * i + 1] += s * f[4 * i + 1];
-      v[3 * i + 2] += s * f[4 * i + 2];
-    }
-  }
+  if (sewing) addSeamPull(seams_, seam_stage_, x_, params_, f4_);
+  accelerate(x_.rows(), v_, f4_, m_, dt);
   fixVelocities();
   if (hook_) {
     hook_(x_, v_);
@@ -219,22 +249,8 @@ bool ClothState::step(double dt, bool sewing) {
     // works against the body there, and the springs relax once the seams are welded.
     if (!sewing) fixVelocities();
   }
-  // Position update and the blow-up check in one pass.
   over_valid_ = false;  // the positions move
-  const double limit2 = params_.runaway_speed * params_.runaway_speed;
-  bool ok = true;
-  {
-    const double* v = v_.data();
-    double* x = x_.data();
-    for (Eigen::Index i = 0; i < 3 * n; i += 3) {
-      x[i] += dt * v[i];
-      x[i + 1] += dt * v[i + 1];
-      x[i + 2] += dt * v[i + 2];
-      const double s2 = v[i] * v[i] + v[i + 1] * v[i + 1] + v[i + 2] * v[i + 2];
-      // NaN compares false: a non-finite velocity fails here, a non-finite position below.
-      if (!(s2 <= limit2) || !std::isfinite(x[i] + x[i + 1] + x[i + 2])) ok = false;
-    }
-  }
+  const bool ok = moveNodes(x_, v_, dt, params_.runaway_speed);
   if (!ok) {
     x_ = x_prev_;
     v_ = v_prev_;

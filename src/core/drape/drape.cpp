@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace virtual_tryon {
@@ -78,6 +79,279 @@ class CollisionResponse {
   std::vector<int> count_;
 };
 
+// One drape run: the stages of drape() on the state they share.
+class DrapeRun {
+ public:
+  DrapeRun(const Body& body, const DrapeParams& params, const DrapeProgressCallback& progress,
+           int progress_every)
+      : tStart_(Clock::now()), body_(body), params_(params), progress_(progress),
+        progress_every_(progress_every) {}
+
+  DrapeResult run(const Pattern& input, TriMesh& garment) {
+    if (!setUp(input)) return rep_;
+    simulate();
+    takeGarment(garment);
+    if (blewUp_) {
+      rep_.message = "the integration blew up at iteration " + std::to_string(rep_.iterations + 1) +
+                     " (a non-finite value or a node faster than " + num(params_.cloth.runaway_speed) +
+                     " m/s) with dt " + num(rep_.dt) + " s, bound " + num(rep_.dt_bound) +
+                     " s; no garment is returned";
+      garment = TriMesh();
+      rep_.seconds_total = since(tStart_);
+      return rep_;
+    }
+    rep_.success = true;
+    resolve(garment);
+    summarize();
+    return rep_;
+  }
+
+ private:
+  // Meshes and places the pattern, builds the cloth, picks the time step and the collider; false
+  // (with rep_.message) when the run cannot start.
+  bool setUp(const Pattern& input) {
+    const std::string paramError = validateDrapeParams(params_);
+    if (!paramError.empty()) {
+      rep_.message = paramError;
+      return false;
+    }
+    Pattern pattern = input;
+    normalizePattern(pattern);
+    ClothMesh mesh;
+    std::string error;
+    if (!meshPattern(pattern, params_.spacing, mesh, error, params_.limits)) {
+      rep_.message = error;
+      return false;
+    }
+    if (mesh.X.rows() > 0) {  // panels placed where they cannot reach the body
+      const Eigen::Vector3d lo = mesh.X.colwise().minCoeff().transpose(),
+                            hi = mesh.X.colwise().maxCoeff().transpose();
+      for (const std::string& w : placementWarnings(body_.boxMin(), body_.boxMax(), lo, hi))
+        rep_.warnings.push_back(w);
+    }
+    cloth_.emplace(mesh, params_.cloth);
+    rep_.seams_total = cloth_->openSeams();
+    if (!chooseTimeStep()) return false;
+    makeCollider();
+    weldTol_ = params_.weld_tolerance > 0 ? params_.weld_tolerance : std::max(0.5 * params_.spacing, 0.015);
+    rep_.seconds_setup = since(tStart_);
+    return true;
+  }
+
+  // Time step (eq. 4); false when a requested dt above the bound is refused.
+  bool chooseTimeStep() {
+    rep_.dt_bound = cloth_->stableTimeStep();
+    rep_.dt_bound_paper = cloth_->paperTimeStep();
+    rep_.dt = params_.dt > 0 ? params_.dt : params_.dt_safety * rep_.dt_bound;
+    if (params_.dt > rep_.dt_bound) {
+      const std::string what = "requested dt " + num(params_.dt) + " s is above the stability bound " +
+                               num(rep_.dt_bound) + " s (0.4 pi sqrt(m / K) with m a node's mass and K the "
+                               "sum of the stiffnesses meeting at it; node mass " + num(cloth_->nodeMass()) +
+                               " kg)";
+      if (!params_.clamp_dt) {
+        rep_.message = what;
+        return false;
+      }
+      rep_.warnings.push_back(what + "; clamped to the bound");
+      rep_.dt = rep_.dt_bound;
+    }
+    return true;
+  }
+
+  // Collisions: maps or BVH, cached with the body.
+  void makeCollider() {
+    ClothState& cloth = *cloth_;
+    if (params_.mode == CollisionMode::ImageSpace) {
+      auto maps = body_.depthMaps(params_.collision);
+      rep_.map_size = std::max(maps->width(), maps->height());
+      imageSpace_ = std::make_unique<ImageSpaceCollider>(maps);
+      imageResponse_ = std::make_unique<CollisionResponse<ImageSpaceCollider>>(
+          *imageSpace_, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
+      cloth.setVelocityHook([this](const MatrixX3d& x, MatrixX3d& v) { (*imageResponse_)(x, v); });
+    } else {
+      body_.bvh();
+      objectSpace_ = std::make_unique<ObjectSpaceCollider>(body_, params_.collision.tol);
+      objectResponse_ = std::make_unique<CollisionResponse<ObjectSpaceCollider>>(
+          *objectSpace_, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
+      cloth.setVelocityHook([this](const MatrixX3d& x, MatrixX3d& v) { (*objectResponse_)(x, v); });
+    }
+  }
+
+  // Sew, weld, drape: until settled, blown up, cancelled or out of iterations or time.
+  void simulate() {
+    const auto tSim = Clock::now();
+    // Settle test on the net motion over a window of kSettleWindow seconds (at least
+    // kSettleWindowMin iterations): the rms over nodes of (displacement over the window) / (its
+    // duration). The instantaneous node velocities of a cloth resting on the body are dominated by
+    // contact chatter: a node pressed onto the body by the cloth's tension leaves the tolerance shell
+    // by the reflected velocity, falls back in with one step of the full spring acceleration (a * dt,
+    // up to 0.5 m/s) and is stopped again, so its speed jumps while it moves less than a millimetre.
+    // That chatter does not move the garment and averages out over the window; a slide or a swing
+    // does not (a slide at speed s shows s, and the window is far shorter than a swing of the
+    // hanging cloth, about a second).
+    settleWindow_ = std::max(kSettleWindowMin, static_cast<int>(std::ceil(kSettleWindow / rep_.dt)));
+    ClothState& cloth = *cloth_;
+    while (true) {
+      const bool sewing = cloth.openSeams() > 0;
+      if (!cloth.step(rep_.dt, sewing)) {
+        blewUp_ = true;
+        break;
+      }
+      ++rep_.iterations;
+      if (sewing) {
+        ++rep_.sew_iterations;
+        cloth.weldClosedSeams(weldTol_);
+      } else if (drapeStepSettles()) {
+        settled_ = true;
+        break;
+      }
+      if (cancelledByProgress() || limitReached(sewing)) break;
+    }
+    rep_.seconds_simulation = since(tSim);
+  }
+
+  // Counts a drape iteration and runs the settle test when its window is full: true when settled.
+  bool drapeStepSettles() {
+    const ClothState& cloth = *cloth_;
+    ++drapeIterations_;
+    if (settleRef_.rows() != cloth.positions().rows()) {
+      settleRef_ = cloth.positions();
+      settleRefIteration_ = drapeIterations_;
+      double strainMean = 0;
+      cloth.strain(settleRefStrain_, strainMean);
+    } else if (drapeIterations_ - settleRefIteration_ >= settleWindow_) {
+      const double span = (drapeIterations_ - settleRefIteration_) * rep_.dt;
+      rep_.net_speed = std::sqrt((cloth.positions() - settleRef_).rowwise().squaredNorm().mean()) / span;
+      double strainMax = 0, strainMean = 0;
+      cloth.strain(strainMax, strainMean);
+      const bool strainSteady = std::abs(strainMax - settleRefStrain_) < kSettleStrainChange;
+      settleRef_ = cloth.positions();
+      settleRefIteration_ = drapeIterations_;
+      settleRefStrain_ = strainMax;
+      if (drapeIterations_ >= params_.min_drape_iterations && rep_.net_speed < params_.settle_speed &&
+          strainSteady)
+        return true;
+    }
+    return false;
+  }
+
+  // Reports progress when due; true when the callback cancelled the run.
+  bool cancelledByProgress() {
+    if (!(progress_ && progress_every_ > 0 && rep_.iterations % progress_every_ == 0)) return false;
+    const ClothState& cloth = *cloth_;
+    DrapeProgress pr;
+    pr.iteration = rep_.iterations;
+    pr.sewing = cloth.openSeams() > 0;
+    pr.seam_gap = cloth.maxSeamGap();
+    pr.kinetic_energy = cloth.kineticEnergy();
+    pr.max_speed = cloth.maxSpeed();
+    pr.seconds = since(tStart_);
+    if (progress_(pr)) return false;
+    rep_.cancelled = true;
+    stop_ = "cancelled at iteration " + std::to_string(rep_.iterations);
+    return true;
+  }
+
+  // True (with stop_) when the sewing iterations, the iterations or the time budget are spent.
+  bool limitReached(bool sewing) {
+    const ClothState& cloth = *cloth_;
+    if (sewing && cloth.openSeams() > 0 && rep_.sew_iterations >= params_.max_sew_iterations) {
+      stop_ = std::to_string(cloth.openSeams()) + " seams still open after " +
+              std::to_string(rep_.sew_iterations) + " sewing iterations (largest gap " +
+              num(cloth.maxSeamGap()) + " m, weld tolerance " + num(weldTol_) + " m)";
+      return true;
+    }
+    if (rep_.iterations >= params_.max_iterations) {
+      stop_ = "iteration limit " + std::to_string(params_.max_iterations) +
+              " reached before the cloth settled";
+      return true;
+    }
+    if (params_.time_budget > 0 && since(tStart_) > params_.time_budget) {
+      stop_ = "time budget " + num(params_.time_budget) + " s spent";
+      return true;
+    }
+    return false;
+  }
+
+  // The cloth's final state into the report, and its mesh into `garment`.
+  void takeGarment(TriMesh& garment) {
+    const ClothState& cloth = *cloth_;
+    rep_.seconds_per_iteration = rep_.iterations ? rep_.seconds_simulation / rep_.iterations : 0.0;
+    rep_.seams_open = cloth.openSeams();
+    rep_.seam_gap_max = cloth.maxSeamGap();
+    rep_.seam_gap_mean = cloth.meanSeamGap();
+    cloth.strain(rep_.strain_max, rep_.strain_mean);
+    rep_.max_speed = cloth.maxSpeed();
+    rep_.kinetic_energy = cloth.kineticEnergy();
+    garment = cloth.mesh();
+    rep_.vertices = static_cast<std::size_t>(garment.V.rows());
+    rep_.triangles = static_cast<std::size_t>(garment.F.rows());
+  }
+
+  // Clean what the collisions let through.
+  void resolve(TriMesh& garment) {
+    if (params_.resolve) {
+      const auto t0 = Clock::now();
+      rep_.draped_vertices = garment.V;
+      // The resolver gets what is left of the drape's budget (at least a millisecond, so that it
+      // always makes its first detection pass and reports), unless its own budget is tighter.
+      ResolverParams resolverParams = params_.resolver;
+      if (params_.time_budget > 0) {
+        const double left = std::max(1e-3, params_.time_budget - since(tStart_));
+        if (resolverParams.time_budget <= 0 || resolverParams.time_budget > left)
+          resolverParams.time_budget = left;
+      }
+      rep_.resolver = resolvePenetrations(body_, garment, resolverParams);
+      rep_.resolver_run = true;
+      rep_.seconds_resolve = since(t0);
+      rep_.penetrating_before_resolve = rep_.resolver.vertices_inside_before;
+      rep_.penetrating_after = rep_.resolver.vertices_inside_after;
+    } else if (body_.closed()) {
+      for (Eigen::Index i = 0; i < garment.V.rows(); ++i)
+        rep_.penetrating_before_resolve += pointInsideBody(body_, garment.V.row(i).transpose());
+      rep_.penetrating_after = rep_.penetrating_before_resolve;
+    }
+  }
+
+  // Converged or not, and the one-line summary.
+  void summarize() {
+    rep_.converged = settled_ && rep_.seams_open == 0 && (!rep_.resolver_run || rep_.resolver.converged);
+    std::ostringstream msg;
+    if (rep_.converged)
+      msg << "draped: " << rep_.iterations << " iterations (" << rep_.sew_iterations << " sewing), settled";
+    else if (!stop_.empty())
+      msg << "not converged: " << stop_;
+    else if (rep_.resolver_run && !rep_.resolver.converged)
+      msg << "not converged: resolver: " << rep_.resolver.reason;
+    else
+      msg << "not converged";
+    rep_.message = msg.str();
+    rep_.seconds_total = since(tStart_);
+  }
+
+  const Clock::time_point tStart_;
+  const Body& body_;
+  const DrapeParams& params_;
+  const DrapeProgressCallback& progress_;
+  const int progress_every_;
+  DrapeResult rep_;
+
+  std::optional<ClothState> cloth_;
+  std::unique_ptr<ImageSpaceCollider> imageSpace_;
+  std::unique_ptr<ObjectSpaceCollider> objectSpace_;
+  std::unique_ptr<CollisionResponse<ImageSpaceCollider>> imageResponse_;
+  std::unique_ptr<CollisionResponse<ObjectSpaceCollider>> objectResponse_;
+  double weldTol_ = 0;
+
+  int drapeIterations_ = 0;
+  bool settled_ = false, blewUp_ = false;
+  int settleWindow_ = 0;
+  MatrixX3d settleRef_;
+  int settleRefIteration_ = 0;
+  double settleRefStrain_ = 0;  // largest strain at settleRef_
+  std::string stop_;
+};
+
 }  // namespace
 
 std::string validateDrapeParams(const DrapeParams& p) {
@@ -120,204 +394,7 @@ std::string validateDrapeParams(const DrapeParams& p) {
 
 DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& params,
                   TriMesh& garment, const DrapeProgressCallback& progress, int progress_every) {
-  const auto tStart = Clock::now();
-  DrapeResult rep;
-  const std::string paramError = validateDrapeParams(params);
-  if (!paramError.empty()) {
-    rep.message = paramError;
-    return rep;
-  }
-  Pattern pattern = input;
-  normalizePattern(pattern);
-  ClothMesh mesh;
-  std::string error;
-  if (!meshPattern(pattern, params.spacing, mesh, error, params.limits)) {
-    rep.message = error;
-    return rep;
-  }
-  if (mesh.X.rows() > 0) {  // panels placed where they cannot reach the body
-    const Eigen::Vector3d lo = mesh.X.colwise().minCoeff().transpose(), hi = mesh.X.colwise().maxCoeff().transpose();
-    for (const std::string& w : placementWarnings(body.boxMin(), body.boxMax(), lo, hi))
-      rep.warnings.push_back(w);
-  }
-  ClothState cloth(mesh, params.cloth);
-  rep.seams_total = cloth.openSeams();
-
-  // Time step (eq. 4).
-  rep.dt_bound = cloth.stableTimeStep();
-  rep.dt_bound_paper = cloth.paperTimeStep();
-  rep.dt = params.dt > 0 ? params.dt : params.dt_safety * rep.dt_bound;
-  if (params.dt > rep.dt_bound) {
-    const std::string what = "requested dt " + num(params.dt) + " s is above the stability bound " +
-                             num(rep.dt_bound) + " s (0.4 pi sqrt(m / K) with m a node's mass and K the "
-                             "sum of the stiffnesses meeting at it; node mass " + num(cloth.nodeMass()) + " kg)";
-    if (!params.clamp_dt) {
-      rep.message = what;
-      return rep;
-    }
-    rep.warnings.push_back(what + "; clamped to the bound");
-    rep.dt = rep.dt_bound;
-  }
-
-  // Collisions: maps or BVH, cached with the body.
-  std::unique_ptr<ImageSpaceCollider> imageSpace;
-  std::unique_ptr<ObjectSpaceCollider> objectSpace;
-  std::unique_ptr<CollisionResponse<ImageSpaceCollider>> imageResponse;
-  std::unique_ptr<CollisionResponse<ObjectSpaceCollider>> objectResponse;
-  if (params.mode == CollisionMode::ImageSpace) {
-    auto maps = body.depthMaps(params.collision);
-    rep.map_size = std::max(maps->width(), maps->height());
-    imageSpace = std::make_unique<ImageSpaceCollider>(maps);
-    imageResponse = std::make_unique<CollisionResponse<ImageSpaceCollider>>(
-        *imageSpace, params.collision, params.quad_midpoints, cloth, rep.dt, params.push_out);
-    cloth.setVelocityHook([&](const MatrixX3d& x, MatrixX3d& v) { (*imageResponse)(x, v); });
-  } else {
-    body.bvh();
-    objectSpace = std::make_unique<ObjectSpaceCollider>(body, params.collision.tol);
-    objectResponse = std::make_unique<CollisionResponse<ObjectSpaceCollider>>(
-        *objectSpace, params.collision, params.quad_midpoints, cloth, rep.dt, params.push_out);
-    cloth.setVelocityHook([&](const MatrixX3d& x, MatrixX3d& v) { (*objectResponse)(x, v); });
-  }
-  const double weldTol = params.weld_tolerance > 0 ? params.weld_tolerance : std::max(0.5 * params.spacing, 0.015);
-  rep.seconds_setup = since(tStart);
-
-  // Sew, weld, drape.
-  const auto tSim = Clock::now();
-  int drapeIterations = 0;
-  bool settled = false, blewUp = false;
-  // Settle test on the net motion over a window of kSettleWindow seconds (at least
-  // kSettleWindowMin iterations): the rms over nodes of (displacement over the window) / (its
-  // duration). The instantaneous node velocities of a cloth resting on the body are dominated by
-  // contact chatter: a node pressed onto the body by the cloth's tension leaves the tolerance shell
-  // by the reflected velocity, falls back in with one step of the full spring acceleration (a * dt,
-  // up to 0.5 m/s) and is stopped again, so its speed jumps while it moves less than a millimetre.
-  // That chatter does not move the garment and averages out over the window; a slide or a swing
-  // does not (a slide at speed s shows s, and the window is far shorter than a swing of the
-  // hanging cloth, about a second).
-  const int settleWindow = std::max(kSettleWindowMin, static_cast<int>(std::ceil(kSettleWindow / rep.dt)));
-  MatrixX3d settleRef;
-  int settleRefIteration = 0;
-  double settleRefStrain = 0;  // largest strain at settleRef
-  std::string stop;
-  while (true) {
-    const bool sewing = cloth.openSeams() > 0;
-    if (!cloth.step(rep.dt, sewing)) {
-      blewUp = true;
-      break;
-    }
-    ++rep.iterations;
-    if (sewing) {
-      ++rep.sew_iterations;
-      cloth.weldClosedSeams(weldTol);
-    } else {
-      ++drapeIterations;
-      if (settleRef.rows() != cloth.positions().rows()) {
-        settleRef = cloth.positions();
-        settleRefIteration = drapeIterations;
-        double strainMean = 0;
-        cloth.strain(settleRefStrain, strainMean);
-      } else if (drapeIterations - settleRefIteration >= settleWindow) {
-        const double span = (drapeIterations - settleRefIteration) * rep.dt;
-        rep.net_speed = std::sqrt((cloth.positions() - settleRef).rowwise().squaredNorm().mean()) / span;
-        double strainMax = 0, strainMean = 0;
-        cloth.strain(strainMax, strainMean);
-        const bool strainSteady = std::abs(strainMax - settleRefStrain) < kSettleStrainChange;
-        settleRef = cloth.positions();
-        settleRefIteration = drapeIterations;
-        settleRefStrain = strainMax;
-        if (drapeIterations >= params.min_drape_iterations && rep.net_speed < params.settle_speed && strainSteady) {
-          settled = true;
-          break;
-        }
-      }
-    }
-    if (progress && progress_every > 0 && rep.iterations % progress_every == 0) {
-      DrapeProgress pr;
-      pr.iteration = rep.iterations;
-      pr.sewing = cloth.openSeams() > 0;
-      pr.seam_gap = cloth.maxSeamGap();
-      pr.kinetic_energy = cloth.kineticEnergy();
-      pr.max_speed = cloth.maxSpeed();
-      pr.seconds = since(tStart);
-      if (!progress(pr)) {
-        rep.cancelled = true;
-        stop = "cancelled at iteration " + std::to_string(rep.iterations);
-        break;
-      }
-    }
-    if (sewing && cloth.openSeams() > 0 && rep.sew_iterations >= params.max_sew_iterations) {
-      stop = std::to_string(cloth.openSeams()) + " seams still open after " +
-             std::to_string(rep.sew_iterations) + " sewing iterations (largest gap " +
-             num(cloth.maxSeamGap()) + " m, weld tolerance " + num(weldTol) + " m)";
-      break;
-    }
-    if (rep.iterations >= params.max_iterations) {
-      stop = "iteration limit " + std::to_string(params.max_iterations) + " reached before the cloth settled";
-      break;
-    }
-    if (params.time_budget > 0 && since(tStart) > params.time_budget) {
-      stop = "time budget " + num(params.time_budget) + " s spent";
-      break;
-    }
-  }
-  rep.seconds_simulation = since(tSim);
-  rep.seconds_per_iteration = rep.iterations ? rep.seconds_simulation / rep.iterations : 0.0;
-  rep.seams_open = cloth.openSeams();
-  rep.seam_gap_max = cloth.maxSeamGap();
-  rep.seam_gap_mean = cloth.meanSeamGap();
-  cloth.strain(rep.strain_max, rep.strain_mean);
-  rep.max_speed = cloth.maxSpeed();
-  rep.kinetic_energy = cloth.kineticEnergy();
-  garment = cloth.mesh();
-  rep.vertices = static_cast<std::size_t>(garment.V.rows());
-  rep.triangles = static_cast<std::size_t>(garment.F.rows());
-
-  if (blewUp) {
-    rep.message = "the integration blew up at iteration " + std::to_string(rep.iterations + 1) +
-                  " (a non-finite value or a node faster than " + num(params.cloth.runaway_speed) +
-                  " m/s) with dt " + num(rep.dt) + " s, bound " + num(rep.dt_bound) +
-                  " s; no garment is returned";
-    garment = TriMesh();
-    rep.seconds_total = since(tStart);
-    return rep;
-  }
-  rep.success = true;
-
-  // Clean what the collisions let through.
-  if (params.resolve) {
-    const auto t0 = Clock::now();
-    rep.draped_vertices = garment.V;
-    // The resolver gets what is left of the drape's budget (at least a millisecond, so that it
-    // always makes its first detection pass and reports), unless its own budget is tighter.
-    ResolverParams resolverParams = params.resolver;
-    if (params.time_budget > 0) {
-      const double left = std::max(1e-3, params.time_budget - since(tStart));
-      if (resolverParams.time_budget <= 0 || resolverParams.time_budget > left)
-        resolverParams.time_budget = left;
-    }
-    rep.resolver = resolvePenetrations(body, garment, resolverParams);
-    rep.resolver_run = true;
-    rep.seconds_resolve = since(t0);
-    rep.penetrating_before_resolve = rep.resolver.vertices_inside_before;
-    rep.penetrating_after = rep.resolver.vertices_inside_after;
-  } else if (body.closed()) {
-    for (Eigen::Index i = 0; i < garment.V.rows(); ++i)
-      rep.penetrating_before_resolve += pointInsideBody(body, garment.V.row(i).transpose());
-    rep.penetrating_after = rep.penetrating_before_resolve;
-  }
-  rep.converged = settled && rep.seams_open == 0 && (!rep.resolver_run || rep.resolver.converged);
-  std::ostringstream msg;
-  if (rep.converged)
-    msg << "draped: " << rep.iterations << " iterations (" << rep.sew_iterations << " sewing), settled";
-  else if (!stop.empty())
-    msg << "not converged: " << stop;
-  else if (rep.resolver_run && !rep.resolver.converged)
-    msg << "not converged: resolver: " << rep.resolver.reason;
-  else
-    msg << "not converged";
-  rep.message = msg.str();
-  rep.seconds_total = since(tStart);
-  return rep;
+  return DrapeRun(body, params, progress, progress_every).run(input, garment);
 }
 
 }  // namespace virtual_tryon

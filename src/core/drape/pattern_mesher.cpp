@@ -39,7 +39,13 @@ struct PanelGrid {
 
   int at(int i, int j) const { return j * nx + i; }
   Vec2 uv(int i, int j) const { return Vec2(x0 + i * h, y0 + j * h); }
-  bool isUsed(int i, int j) const { return i >= 0 && j >= 0 && i < nx && j < ny && used[static_cast<std::size_t>(at(i, j))]; }
+  bool isUsed(int i, int j) const {
+    return i >= 0 && j >= 0 && i < nx && j < ny && used[static_cast<std::size_t>(at(i, j))];
+  }
+  int id(int i, int j) const { return node[static_cast<std::size_t>(at(i, j))]; }  // global index or -1
+  bool linked(int i, int j, std::uint8_t bit) const {
+    return (link[static_cast<std::size_t>(at(i, j))] & bit) != 0;
+  }
 
   // The segment between two kept grid nodes stays inside the outline.
   bool segmentInside(const Vec2& p, const Vec2& q) const {
@@ -140,9 +146,10 @@ double rayToOutline(const Vec2& p, const Vec2& d, const MatrixX2d& P) {
 Vec2 snappedUv(const PanelGrid& g, int i, int j) {
   Vec2 uv = g.uv(i, j);
   if (g.onOutline[static_cast<std::size_t>(g.at(i, j))]) return uv;
-  auto linked = [&](int a, int b, std::uint8_t bit) { return (g.link[static_cast<std::size_t>(g.at(a, b))] & bit) != 0; };
-  const bool left = g.isUsed(i - 1, j) && linked(i - 1, j, kLinkU), right = g.isUsed(i + 1, j) && linked(i, j, kLinkU);
-  const bool down = g.isUsed(i, j - 1) && linked(i, j - 1, kLinkV), up = g.isUsed(i, j + 1) && linked(i, j, kLinkV);
+  const bool left = g.isUsed(i - 1, j) && g.linked(i - 1, j, kLinkU),
+             right = g.isUsed(i + 1, j) && g.linked(i, j, kLinkU);
+  const bool down = g.isUsed(i, j - 1) && g.linked(i, j - 1, kLinkV),
+             up = g.isUsed(i, j + 1) && g.linked(i, j, kLinkV);
   auto push = [&](bool missing, const Vec2& d) -> Vec2 {
     if (!missing) return Vec2::Zero();
     const double t = rayToOutline(uv, d, *g.outline);
@@ -159,43 +166,42 @@ Vec2 snappedUv(const PanelGrid& g, int i, int j) {
   return uv;
 }
 
-}  // namespace
+using LocalQuads = std::vector<std::array<int, 4>>;  // one panel's quads, grid-local indices
 
-bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
-                 const MeshLimits& limits) {
-  cloth = ClothMesh();
-  error.clear();
-  if (!(std::isfinite(spacing) && spacing > 0)) {
-    error = "grid spacing must be a finite number > 0, got " + num(spacing);
-    return false;
-  }
-  error = validatePattern(pattern);
-  if (!error.empty()) return false;
-
+// Sizes before any grid is allocated: all grids together at most 4 x max_vertices nodes.
+bool checkGridSizes(const Pattern& pattern, double spacing, const MeshLimits& limits, std::string& error) {
   const int np = static_cast<int>(pattern.panels.size());
-  // Sizes before any grid is allocated: all grids together at most 4 x max_vertices nodes.
-  {
-    double gridNodes = 0;
-    for (int p = 0; p < np; ++p) {
-      double cx = 0, cy = 0;
-      gridSize(pattern.panels[static_cast<std::size_t>(p)].outline, spacing, cx, cy);
-      if (!(cx * cy <= kMaxGridNodes)) {
-        error = panelLabel(pattern, p) + ": spacing " + num(spacing) + " m gives a " + num(cx) + " x " + num(cy) +
-                " grid, more than " + std::to_string(static_cast<long long>(kMaxGridNodes)) + " nodes";
-        return false;
-      }
-      gridNodes += cx * cy;
-    }
-    const double budget = 4.0 * static_cast<double>(limits.max_vertices);
-    if (!(gridNodes <= budget)) {
-      error = "spacing " + num(spacing) + " m gives grids of " + num(gridNodes) + " nodes over all panels, more than " +
-              num(budget) + " (4 x MeshLimits::max_vertices); use a coarser spacing or check the outline units";
+  double gridNodes = 0;
+  for (int p = 0; p < np; ++p) {
+    double cx = 0, cy = 0;
+    gridSize(pattern.panels[static_cast<std::size_t>(p)].outline, spacing, cx, cy);
+    if (!(cx * cy <= kMaxGridNodes)) {
+      error = panelLabel(pattern, p) + ": spacing " + num(spacing) + " m gives a " + num(cx) + " x " +
+              num(cy) + " grid, more than " + std::to_string(static_cast<long long>(kMaxGridNodes)) +
+              " nodes";
       return false;
     }
+    gridNodes += cx * cy;
   }
-  std::vector<PanelGrid> grids(static_cast<std::size_t>(np));
-  std::vector<std::vector<std::array<int, 4>>> localQuads(static_cast<std::size_t>(np));
-  int total = 0;
+  const double budget = 4.0 * static_cast<double>(limits.max_vertices);
+  if (!(gridNodes <= budget)) {
+    error = "spacing " + num(spacing) + " m gives grids of " + num(gridNodes) +
+            " nodes over all panels, more than " + num(budget) +
+            " (4 x MeshLimits::max_vertices); use a coarser spacing or check the outline units";
+    return false;
+  }
+  return true;
+}
+
+// Every panel's grid and quads, and the nodes in use numbered panel after panel (`total` of them);
+// false (with `error`) when a panel holds no quad or the cloth is over limits.max_vertices.
+bool buildGrids(const Pattern& pattern, double spacing, const MeshLimits& limits,
+                std::vector<PanelGrid>& grids, std::vector<LocalQuads>& localQuads, int& total,
+                std::string& error) {
+  const int np = static_cast<int>(pattern.panels.size());
+  grids.resize(static_cast<std::size_t>(np));
+  localQuads.resize(static_cast<std::size_t>(np));
+  total = 0;
   for (int p = 0; p < np; ++p) {
     PanelGrid& g = grids[static_cast<std::size_t>(p)];
     if (!buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)], error)) return false;
@@ -208,7 +214,11 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
             " vertices (MeshLimits::max_vertices); use a coarser spacing";
     return false;
   }
+  return true;
+}
 
+// The cloth's arrays sized for `total` nodes and the quads of all panels.
+void allocateCloth(double spacing, int total, const std::vector<LocalQuads>& localQuads, ClothMesh& cloth) {
   cloth.spacing = spacing;
   cloth.X.resize(total, 3);
   cloth.UV.resize(total, 2);
@@ -216,154 +226,216 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
   std::size_t quadCount = 0;
   for (const auto& q : localQuads) quadCount += q.size();
   cloth.quads.reserve(quadCount);
-  cloth.springs.reserve(static_cast<std::size_t>(6) * static_cast<std::size_t>(total));  // <= 2 + 2 + 2 per node
+  // <= 2 + 2 + 2 per node
+  cloth.springs.reserve(static_cast<std::size_t>(6) * static_cast<std::size_t>(total));
   cloth.F.resize(static_cast<Eigen::Index>(2 * quadCount), 3);
+}
 
-  // Boundary nodes per panel: global index and uv.
-  std::vector<std::vector<int>> boundary(static_cast<std::size_t>(np));
-
-  for (int p = 0; p < np; ++p) {
-    const PanelGrid& g = grids[static_cast<std::size_t>(p)];
-    const PanelPlacement& placement = pattern.panels[static_cast<std::size_t>(p)].placement;
-    auto id = [&](int i, int j) { return g.node[static_cast<std::size_t>(g.at(i, j))]; };
-    auto linked = [&](int i, int j, std::uint8_t bit) { return (g.link[static_cast<std::size_t>(g.at(i, j))] & bit) != 0; };
-    auto addSpring = [&](int a, int b, SpringType type) {
-      Spring s;
-      s.a = a;
-      s.b = b;
-      s.rest = (cloth.UV.row(a) - cloth.UV.row(b)).norm();
-      s.type = type;
-      cloth.springs.push_back(s);
-    };
-
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) {
-        const int n = id(i, j);
-        if (n < 0) continue;
-        const Vec2 uv = snappedUv(g, i, j);
-        cloth.UV.row(n) = uv.transpose();
-        cloth.X.row(n) = placement.place(uv).transpose();
-        cloth.panel[static_cast<std::size_t>(n)] = p;
-        const bool inner = g.isUsed(i - 1, j) && linked(i - 1, j, kLinkU) && g.isUsed(i + 1, j) &&
-                           linked(i, j, kLinkU) && g.isUsed(i, j - 1) && linked(i, j - 1, kLinkV) &&
-                           g.isUsed(i, j + 1) && linked(i, j, kLinkV);
-        if (!inner || g.onOutline[static_cast<std::size_t>(g.at(i, j))]) boundary[static_cast<std::size_t>(p)].push_back(n);
-      }
-
-    for (const auto& q : localQuads[static_cast<std::size_t>(p)]) {
-      const std::array<int, 4> c = {g.node[static_cast<std::size_t>(q[0])], g.node[static_cast<std::size_t>(q[1])],
-                                     g.node[static_cast<std::size_t>(q[2])], g.node[static_cast<std::size_t>(q[3])]};
-      const Eigen::Index t = static_cast<Eigen::Index>(2 * cloth.quads.size());
-      cloth.F.row(t) << c[0], c[1], c[2];
-      cloth.F.row(t + 1) << c[0], c[2], c[3];
-      cloth.quads.push_back(c);
+// The nodes of panel p: flat (snapped) and placed positions; its boundary nodes (a grid axis
+// without a linked neighbour, or on the outline) go to `boundary`.
+void placeNodes(const PanelGrid& g, int p, const PanelPlacement& placement, ClothMesh& cloth,
+                std::vector<int>& boundary) {
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const int n = g.id(i, j);
+      if (n < 0) continue;
+      const Vec2 uv = snappedUv(g, i, j);
+      cloth.UV.row(n) = uv.transpose();
+      cloth.X.row(n) = placement.place(uv).transpose();
+      cloth.panel[static_cast<std::size_t>(n)] = p;
+      const bool inner = g.isUsed(i - 1, j) && g.linked(i - 1, j, kLinkU) && g.isUsed(i + 1, j) &&
+                         g.linked(i, j, kLinkU) && g.isUsed(i, j - 1) && g.linked(i, j - 1, kLinkV) &&
+                         g.isUsed(i, j + 1) && g.linked(i, j, kLinkV);
+      if (!inner || g.onOutline[static_cast<std::size_t>(g.at(i, j))]) boundary.push_back(n);
     }
+}
 
-    // Structural: linked grid neighbours.
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) {
-        if (!g.isUsed(i, j)) continue;
-        if (g.isUsed(i + 1, j) && linked(i, j, kLinkU)) addSpring(id(i, j), id(i + 1, j), SpringType::Structural);
-        if (g.isUsed(i, j + 1) && linked(i, j, kLinkV)) addSpring(id(i, j), id(i, j + 1), SpringType::Structural);
+// Each quad of the panel and its two triangles, in global node indices.
+void addQuads(const PanelGrid& g, const LocalQuads& quads, ClothMesh& cloth) {
+  for (const auto& q : quads) {
+    const std::array<int, 4> c = {
+        g.node[static_cast<std::size_t>(q[0])], g.node[static_cast<std::size_t>(q[1])],
+        g.node[static_cast<std::size_t>(q[2])], g.node[static_cast<std::size_t>(q[3])]};
+    const Eigen::Index t = static_cast<Eigen::Index>(2 * cloth.quads.size());
+    cloth.F.row(t) << c[0], c[1], c[2];
+    cloth.F.row(t + 1) << c[0], c[2], c[3];
+    cloth.quads.push_back(c);
+  }
+}
+
+// A spring at its flat rest length.
+void addSpring(ClothMesh& cloth, int a, int b, SpringType type) {
+  Spring s;
+  s.a = a;
+  s.b = b;
+  s.rest = (cloth.UV.row(a) - cloth.UV.row(b)).norm();
+  s.type = type;
+  cloth.springs.push_back(s);
+}
+
+// The panel's structural, shear and flexion springs (its nodes' uv must be set).
+void addGridSprings(const PanelGrid& g, ClothMesh& cloth) {
+  // Structural: linked grid neighbours.
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      if (!g.isUsed(i, j)) continue;
+      if (g.isUsed(i + 1, j) && g.linked(i, j, kLinkU))
+        addSpring(cloth, g.id(i, j), g.id(i + 1, j), SpringType::Structural);
+      if (g.isUsed(i, j + 1) && g.linked(i, j, kLinkV))
+        addSpring(cloth, g.id(i, j), g.id(i, j + 1), SpringType::Structural);
+    }
+  // Shear: both diagonals of each grid cell whose ends are nodes (and whose segment stays inside).
+  for (int j = 0; j + 1 < g.ny; ++j)
+    for (int i = 0; i + 1 < g.nx; ++i) {
+      if (g.isUsed(i, j) && g.isUsed(i + 1, j + 1) && g.segmentInside(g.uv(i, j), g.uv(i + 1, j + 1)))
+        addSpring(cloth, g.id(i, j), g.id(i + 1, j + 1), SpringType::Shear);
+      if (g.isUsed(i + 1, j) && g.isUsed(i, j + 1) && g.segmentInside(g.uv(i + 1, j), g.uv(i, j + 1)))
+        addSpring(cloth, g.id(i + 1, j), g.id(i, j + 1), SpringType::Shear);
+    }
+  // Flexion: two apart, the middle node present and both halves linked.
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      if (!g.isUsed(i, j)) continue;
+      if (g.isUsed(i + 2, j) && g.isUsed(i + 1, j) && g.linked(i, j, kLinkU) && g.linked(i + 1, j, kLinkU))
+        addSpring(cloth, g.id(i, j), g.id(i + 2, j), SpringType::Flexion);
+      if (g.isUsed(i, j + 2) && g.isUsed(i, j + 1) && g.linked(i, j, kLinkV) && g.linked(i, j + 1, kLinkV))
+        addSpring(cloth, g.id(i, j), g.id(i, j + 2), SpringType::Flexion);
+    }
+}
+
+// How many of the boundary nodes `cand` lie near the stretch polyline `pl`.
+int nodesNearStretch(const std::vector<Vec2>& pl, const std::vector<int>& cand, const MatrixX2d& UV,
+                     double spacing) {
+  // Near: within 0.75 spacing, or within one spacing alongside the stretch (its closest point
+  // not one of the stretch's ends). The second part catches the boundary nodes of a grid that
+  // is not aligned with a slanted stretch: a boundary node's missing neighbour lies across the
+  // outline, so such a node can be up to one spacing away.
+  int near = 0;
+  for (int n : cand) {
+    const Vec2 uv = UV.row(n).transpose();
+    double d = INFINITY;
+    bool atEnd = false;
+    for (std::size_t e = 0; e + 1 < pl.size(); ++e) {
+      const Vec2 ab = pl[e + 1] - pl[e];
+      const double t = std::clamp((uv - pl[e]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const double de = (uv - (pl[e] + t * ab)).norm();
+      if (de < d) {
+        d = de;
+        atEnd = (e == 0 && t <= 0) || (e + 2 == pl.size() && t >= 1);
       }
-    // Shear: both diagonals of each grid cell whose ends are nodes (and whose segment stays inside).
-    for (int j = 0; j + 1 < g.ny; ++j)
-      for (int i = 0; i + 1 < g.nx; ++i) {
-        if (g.isUsed(i, j) && g.isUsed(i + 1, j + 1) && g.segmentInside(g.uv(i, j), g.uv(i + 1, j + 1)))
-          addSpring(id(i, j), id(i + 1, j + 1), SpringType::Shear);
-        if (g.isUsed(i + 1, j) && g.isUsed(i, j + 1) && g.segmentInside(g.uv(i + 1, j), g.uv(i, j + 1)))
-          addSpring(id(i + 1, j), id(i, j + 1), SpringType::Shear);
+    }
+    if (d <= kNearStretch * spacing || (d <= spacing * (1 + 1e-9) && !atEnd)) ++near;
+  }
+  return near;
+}
+
+// `samples` points evenly spaced by arc length along `pl`, each mapped to its nearest node of
+// `cand`.
+std::vector<int> sampleStretch(const std::vector<Vec2>& pl, const std::vector<int>& cand, int samples,
+                               const MatrixX2d& UV) {
+  std::vector<int> mapped;
+  std::vector<double> cum(pl.size(), 0.0);
+  for (std::size_t e = 1; e < pl.size(); ++e) cum[e] = cum[e - 1] + (pl[e] - pl[e - 1]).norm();
+  std::size_t e = 0;
+  for (int s = 0; s < samples; ++s) {
+    const double t = cum.back() * s / (samples - 1);
+    while (e + 2 < pl.size() && cum[e + 1] < t) ++e;
+    const double segLen = cum[e + 1] - cum[e];
+    const double f = segLen > 0 ? std::clamp((t - cum[e]) / segLen, 0.0, 1.0) : 0.0;
+    const Vec2 q = pl[e] + f * (pl[e + 1] - pl[e]);
+    int best = -1;
+    double bestD = INFINITY;
+    for (int n : cand) {
+      const double d = (UV.row(n).transpose() - q).squaredNorm();
+      if (d < bestD) {
+        bestD = d;
+        best = n;
       }
-    // Flexion: two apart, the middle node present and both halves linked.
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) {
-        if (!g.isUsed(i, j)) continue;
-        if (g.isUsed(i + 2, j) && g.isUsed(i + 1, j) && linked(i, j, kLinkU) && linked(i + 1, j, kLinkU))
-          addSpring(id(i, j), id(i + 2, j), SpringType::Flexion);
-        if (g.isUsed(i, j + 2) && g.isUsed(i, j + 1) && linked(i, j, kLinkV) && linked(i, j + 1, kLinkV))
-          addSpring(id(i, j), id(i, j + 2), SpringType::Flexion);
-      }
+    }
+    mapped.push_back(best);
+  }
+  return mapped;
+}
+
+// The node pairs of seam k: both stretches sampled at as many points as the more crowded side has
+// boundary nodes near it, matched sample by sample. False (with `error`) when fewer than two
+// distinct pairs come out.
+bool addSeam(const Pattern& pattern, std::size_t k, double spacing,
+             const std::vector<std::vector<int>>& boundary, ClothMesh& cloth, std::string& error) {
+  const PatternSeam& seam = pattern.seams[k];
+  std::vector<Vec2> poly[2];
+  int near[2] = {0, 0};
+  const OutlineStretch* st[2] = {&seam.a, &seam.b};
+  for (int side = 0; side < 2; ++side) {
+    const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(st[side]->panel)].outline;
+    for (int v : stretchVertices(pattern, *st[side])) poly[side].push_back(polygon2d::point(P, v));
+    near[side] = nodesNearStretch(poly[side], boundary[static_cast<std::size_t>(st[side]->panel)], cloth.UV,
+                                  spacing);
+  }
+  const int samples = std::max(near[0], near[1]);
+  std::vector<int> mapped[2];
+  for (int side = 0; side < 2 && samples >= 2; ++side)
+    mapped[side] = sampleStretch(poly[side], boundary[static_cast<std::size_t>(st[side]->panel)], samples,
+                                 cloth.UV);
+  std::set<std::pair<int, int>> seen;
+  std::size_t before = cloth.seam_pairs.size();
+  for (std::size_t s = 0; s < mapped[0].size(); ++s) {
+    const int a = mapped[0][s], b = mapped[1][s];
+    if (a == b || !seen.insert({a, b}).second) continue;
+    SeamPair sp;
+    sp.a = a;
+    sp.b = b;
+    sp.seam = static_cast<int>(k);
+    cloth.seam_pairs.push_back(sp);
+  }
+  cloth.seam_stage.push_back(pattern.seams[k].stage);
+  const std::size_t made = cloth.seam_pairs.size() - before;
+  if (made < 2) {
+    error = "seam " + std::to_string(k) + ": only " + std::to_string(made) + " distinct node pair" +
+            (made == 1 ? "" : "s") + " at spacing " + num(spacing) + " m (boundary nodes within " +
+            num(kNearStretch) + " * spacing: " + std::to_string(near[0]) + " of " +
+            panelLabel(pattern, seam.a.panel) + " near a, " + std::to_string(near[1]) + " of " +
+            panelLabel(pattern, seam.b.panel) + " near b); a seam needs at least 2, use a finer spacing";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
+                 const MeshLimits& limits) {
+  cloth = ClothMesh();
+  error.clear();
+  if (!(std::isfinite(spacing) && spacing > 0)) {
+    error = "grid spacing must be a finite number > 0, got " + num(spacing);
+    return false;
+  }
+  error = validatePattern(pattern);
+  if (!error.empty()) return false;
+  if (!checkGridSizes(pattern, spacing, limits, error)) return false;
+
+  std::vector<PanelGrid> grids;
+  std::vector<LocalQuads> localQuads;
+  int total = 0;
+  if (!buildGrids(pattern, spacing, limits, grids, localQuads, total, error)) return false;
+  allocateCloth(spacing, total, localQuads, cloth);
+
+  // Boundary nodes per panel (global indices).
+  const std::size_t np = pattern.panels.size();
+  std::vector<std::vector<int>> boundary(np);
+  for (std::size_t p = 0; p < np; ++p) {
+    const PanelGrid& g = grids[p];
+    placeNodes(g, static_cast<int>(p), pattern.panels[p].placement, cloth, boundary[p]);
+    addQuads(g, localQuads[p], cloth);
+    addGridSprings(g, cloth);
   }
 
-  // Seams.
-  for (std::size_t k = 0; k < pattern.seams.size(); ++k) {
-    const PatternSeam& seam = pattern.seams[k];
-    std::vector<Vec2> poly[2];
-    int near[2] = {0, 0};
-    const OutlineStretch* st[2] = {&seam.a, &seam.b};
-    for (int side = 0; side < 2; ++side) {
-      const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(st[side]->panel)].outline;
-      for (int v : stretchVertices(pattern, *st[side])) poly[side].push_back(polygon2d::point(P, v));
-      // Near: within 0.75 spacing, or within one spacing alongside the stretch (its closest point
-      // not one of the stretch's ends). The second part catches the boundary nodes of a grid that
-      // is not aligned with a slanted stretch: a boundary node's missing neighbour lies across the
-      // outline, so such a node can be up to one spacing away.
-      const std::vector<Vec2>& pl = poly[side];
-      for (int n : boundary[static_cast<std::size_t>(st[side]->panel)]) {
-        const Vec2 uv = cloth.UV.row(n).transpose();
-        double d = INFINITY;
-        bool atEnd = false;
-        for (std::size_t e = 0; e + 1 < pl.size(); ++e) {
-          const Vec2 ab = pl[e + 1] - pl[e];
-          const double t = std::clamp((uv - pl[e]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-          const double de = (uv - (pl[e] + t * ab)).norm();
-          if (de < d) {
-            d = de;
-            atEnd = (e == 0 && t <= 0) || (e + 2 == pl.size() && t >= 1);
-          }
-        }
-        if (d <= kNearStretch * spacing || (d <= spacing * (1 + 1e-9) && !atEnd)) ++near[side];
-      }
-    }
-    const int samples = std::max(near[0], near[1]);
-    std::vector<int> mapped[2];
-    for (int side = 0; side < 2 && samples >= 2; ++side) {
-      const std::vector<Vec2>& pl = poly[side];
-      std::vector<double> cum(pl.size(), 0.0);
-      for (std::size_t e = 1; e < pl.size(); ++e) cum[e] = cum[e - 1] + (pl[e] - pl[e - 1]).norm();
-      const std::vector<int>& cand = boundary[static_cast<std::size_t>(st[side]->panel)];
-      std::size_t e = 0;
-      for (int s = 0; s < samples; ++s) {
-        const double t = cum.back() * s / (samples - 1);
-        while (e + 2 < pl.size() && cum[e + 1] < t) ++e;
-        const double segLen = cum[e + 1] - cum[e];
-        const double f = segLen > 0 ? std::clamp((t - cum[e]) / segLen, 0.0, 1.0) : 0.0;
-        const Vec2 q = pl[e] + f * (pl[e + 1] - pl[e]);
-        int best = -1;
-        double bestD = INFINITY;
-        for (int n : cand) {
-          const double d = (cloth.UV.row(n).transpose() - q).squaredNorm();
-          if (d < bestD) {
-            bestD = d;
-            best = n;
-          }
-        }
-        mapped[side].push_back(best);
-      }
-    }
-    std::set<std::pair<int, int>> seen;
-    std::size_t before = cloth.seam_pairs.size();
-    for (std::size_t s = 0; s < mapped[0].size(); ++s) {
-      const int a = mapped[0][s], b = mapped[1][s];
-      if (a == b || !seen.insert({a, b}).second) continue;
-      SeamPair sp;
-      sp.a = a;
-      sp.b = b;
-      sp.seam = static_cast<int>(k);
-      cloth.seam_pairs.push_back(sp);
-    }
-    cloth.seam_stage.push_back(pattern.seams[k].stage);
-    const std::size_t made = cloth.seam_pairs.size() - before;
-    if (made < 2) {
-      error = "seam " + std::to_string(k) + ": only " + std::to_string(made) + " distinct node pair" +
-              (made == 1 ? "" : "s") + " at spacing " + num(spacing) + " m (boundary nodes within " +
-              num(kNearStretch) + " * spacing: " + std::to_string(near[0]) + " of " +
-              panelLabel(pattern, seam.a.panel) + " near a, " + std::to_string(near[1]) + " of " +
-              panelLabel(pattern, seam.b.panel) + " near b); a seam needs at least 2, use a finer spacing";
+  for (std::size_t k = 0; k < pattern.seams.size(); ++k)
+    if (!addSeam(pattern, k, spacing, boundary, cloth, error)) {
       cloth = ClothMesh();
       return false;
     }
-  }
   return true;
 }
 
