@@ -6,14 +6,6 @@
 
 namespace virtual_tryon {
 
-const fcl::CollisionObjectd& BodyBVH::distanceObject(const MatrixX3d& V, const MatrixX3i& F) const {
-  std::call_once(distance_once_, [&] {
-    distance_model_ = buildFclModel<FclDistanceModel>(V, F, nullptr);
-    distance_object_ = std::make_unique<fcl::CollisionObjectd>(distance_model_, fcl::Transform3d::Identity());
-  });
-  return *distance_object_;
-}
-
 Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
   topology_ = edgeTopology(mesh_);
@@ -43,6 +35,7 @@ const BodyBVH& Body::bvh() const {
     const auto t0 = std::chrono::steady_clock::now();
     auto b = std::make_unique<BodyBVH>();
     b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
+    b->faceTree(mesh_);  // the detection's box tree, counted with the BVH
     bvh_ = std::move(b);
     bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     bvh_built_ = true;

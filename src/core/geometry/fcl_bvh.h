@@ -3,6 +3,8 @@
 
 #include "virtual_tryon/core/geometry/mesh.h"
 
+#include "core/geometry/face_box_tree.h"
+
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision_object.h>
 
@@ -13,24 +15,20 @@
 
 namespace virtual_tryon {
 
-// Collision (edge-face detection) uses AABB trees: the garment's tree is rebuilt every round, and
-// AABBs are several times cheaper to build than OBBRSS. FCL answers mesh distance queries only for
-// RSS-type volumes, so nearest-point queries get their own OBBRSS tree of the body, built only
-// when first needed.
+// FCL's AABB tree of the body serves the ray-parity inside test (point_queries.cpp); the
+// edge-face detection and nearest-point queries use the core's own box tree (face_box_tree.h).
 using FclModel = fcl::BVHModel<fcl::AABBd>;
-using FclDistanceModel = fcl::BVHModel<fcl::OBBRSSd>;
 
 class BodyBVH {
  public:
   std::shared_ptr<FclModel> model;
 
-  // The OBBRSS tree for distance queries, built on first use.
-  const fcl::CollisionObjectd& distanceObject(const MatrixX3d& V, const MatrixX3i& F) const;
+  // The box tree of the edge-face detection (face_box_tree.h), built on first use.
+  const FaceBoxTree& faceTree(const TriMesh& mesh) const;
 
  private:
-  mutable std::once_flag distance_once_;
-  mutable std::shared_ptr<FclDistanceModel> distance_model_;
-  mutable std::unique_ptr<fcl::CollisionObjectd> distance_object_;
+  mutable std::once_flag tree_once_;
+  mutable std::unique_ptr<FaceBoxTree> tree_;
 };
 
 // A BVH over the triangles F (all of them, or only `faces`) of the vertices V.

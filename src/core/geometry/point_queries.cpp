@@ -3,8 +3,6 @@
 #include "virtual_tryon/core/geometry/edge_face_crossing.h"
 #include "core/geometry/fcl_bvh.h"
 
-#include <fcl/geometry/shape/sphere.h>
-#include <fcl/narrowphase/distance.h>
 
 #include <algorithm>
 #include <vector>
@@ -34,27 +32,12 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Through the detection's box tree (branch and bound on box distances, exact point-triangle
+// distances at the leaves): several times cheaper than FCL's OBBRSS distance query with GJK.
 ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p) {
   ClosestPoint cp;
-  const BodyBVH& bvh = body.bvh();
-  auto sphere = std::make_shared<fcl::Sphered>(1e-12);
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  tf.translation() = p;
-  fcl::CollisionObjectd probe(sphere, tf);
-  fcl::DistanceRequestd request(true);  // nearest points
-  fcl::DistanceResultd result;
-  fcl::distance(&bvh.distanceObject(body.mesh().V, body.mesh().F), &probe, request, result);
-  cp.face = result.b1;
-  if (cp.face < 0 || cp.face >= body.mesh().F.rows()) {
-    cp.point = result.nearest_points[0];
-  } else {
-    // FCL found the face; take its nearest point exactly (FCL's is only as good as its GJK).
-    const MatrixX3d& V = body.mesh().V;
-    const MatrixX3i& F = body.mesh().F;
-    cp.point = closestPointOnTriangle(p, V.row(F(cp.face, 0)).transpose(),
-                                      V.row(F(cp.face, 1)).transpose(),
-                                      V.row(F(cp.face, 2)).transpose());
-  }
+  cp.face = body.bvh().faceTree(body.mesh()).nearest(body.mesh(), p, cp.point);
+  if (cp.face < 0) cp.point = p;
   cp.distance = (cp.point - p).norm();
   return cp;
 }

@@ -4,9 +4,6 @@
 
 #include "core/geometry/fcl_bvh.h"
 
-#include <fcl/narrowphase/collision.h>
-#include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
-#include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include <algorithm>
 #include <chrono>
@@ -35,51 +32,58 @@ void sortUnique(std::vector<EdgeFaceCrossing>& v) {
 
 GarmentTopology::GarmentTopology(const TriMesh& garment) { edges = uniqueEdges(garment, &face_edges); }
 
-void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
-                     CrossingSet& out, const std::vector<int>* faces) {
-  out.garment_edges.clear();
-  out.body_edges.clear();
-  if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
-  if (faces && faces->empty()) return;
+const FaceBoxTree& BodyBVH::faceTree(const TriMesh& mesh) const {
+  std::call_once(tree_once_, [&] { tree_ = std::make_unique<FaceBoxTree>(mesh); });
+  return *tree_;
+}
 
-  const BodyBVH& bvh = body.bvh();
-  auto gModel = buildFclModel<FclModel>(garment.V, garment.F, faces);
+namespace {
 
-  fcl::CollisionRequestd request(std::numeric_limits<std::size_t>::max() / 2, false);
-  fcl::CollisionResultd result;
-  // fcl::collide copies both AABB models on every call (its BVHCollideImpl), so each detection
-  // would cost O(body size) however few garment faces it tests. The traversal itself reads the
-  // models and, with identity transforms, leaves them as they are.
-  fcl::detail::MeshCollisionTraversalNode<fcl::AABBd> node;
-  fcl::Transform3d tfBody = fcl::Transform3d::Identity(), tfGarment = fcl::Transform3d::Identity();
-  if (!fcl::detail::initialize(node, *bvh.model, tfBody, *gModel, tfGarment, request, result)) return;
-  fcl::detail::collide(&node);
-  std::vector<fcl::Contactd> contacts;
-  result.getContacts(contacts);
-
+// The crossings of garment face gf's three edges with body face bf, and of bf's three edges with gf.
+void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopology& topo, int bf, int gf,
+                  CrossingSet& out) {
   const MatrixX3d& BV = body.mesh().V;
   const MatrixX3i& BF = body.mesh().F;
   const MatrixX2i& BE = body.edges();
   const MatrixX3i& BFE = body.faceEdges();
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
-
+  const Eigen::Vector3d y0 = row(BV, BF(bf, 0)), y1 = row(BV, BF(bf, 1)), y2 = row(BV, BF(bf, 2));
+  const Eigen::Vector3d x0 = row(GV, GF(gf, 0)), x1 = row(GV, GF(gf, 1)), x2 = row(GV, GF(gf, 2));
   EdgeFaceHit hit;
-  for (const fcl::Contactd& c : contacts) {
-    const int bf = c.b1;
-    const int gf = faces ? (*faces)[static_cast<std::size_t>(c.b2)] : c.b2;
-    const Eigen::Vector3d y0 = row(BV, BF(bf, 0)), y1 = row(BV, BF(bf, 1)), y2 = row(BV, BF(bf, 2));
-    const Eigen::Vector3d x0 = row(GV, GF(gf, 0)), x1 = row(GV, GF(gf, 1)), x2 = row(GV, GF(gf, 2));
-    for (int k = 0; k < 3; ++k) {
-      const int ge = topo.face_edges(gf, k);
-      const Eigen::Vector3d a = row(GV, topo.edges(ge, 0)), b = row(GV, topo.edges(ge, 1));
-      if (segmentCrossesTriangle(a, b, y0, y1, y2, &hit))
-        out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
-      const int be = BFE(bf, k);
-      const Eigen::Vector3d p = row(BV, BE(be, 0)), q = row(BV, BE(be, 1));
-      if (segmentCrossesTriangle(p, q, x0, x1, x2, &hit))
-        out.body_edges.push_back({be, gf, hit.t, hit.bary, hit.sa, hit.sb});
+  for (int k = 0; k < 3; ++k) {
+    const int ge = topo.face_edges(gf, k);
+    const Eigen::Vector3d a = row(GV, topo.edges(ge, 0)), b = row(GV, topo.edges(ge, 1));
+    if (segmentCrossesTriangle(a, b, y0, y1, y2, &hit)) out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
+    const int be = BFE(bf, k);
+    const Eigen::Vector3d p = row(BV, BE(be, 0)), q = row(BV, BE(be, 1));
+    if (segmentCrossesTriangle(p, q, x0, x1, x2, &hit)) out.body_edges.push_back({be, gf, hit.t, hit.bary, hit.sa, hit.sb});
+  }
+}
+
+}  // namespace
+
+// Candidate pairs are the (body face, garment face) pairs whose bounding boxes overlap, from the
+// body's box tree (built once with the body) and one box query per garment face; every crossing
+// lies in such a pair, and the segment tests decide.
+void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                     CrossingSet& out, const std::vector<int>* faces) {
+  out.garment_edges.clear();
+  out.body_edges.clear();
+  if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
+  if (faces && faces->empty()) return;
+  const FaceBoxTree& tree = body.bvh().faceTree(body.mesh());
+  const MatrixX3d& GV = garment.V;
+  const MatrixX3i& GF = garment.F;
+  const int n = faces ? static_cast<int>(faces->size()) : static_cast<int>(GF.rows());
+  for (int i = 0; i < n; ++i) {
+    const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
+    Eigen::Vector3d lo = row(GV, GF(gf, 0)), hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      lo = lo.cwiseMin(row(GV, GF(gf, k)));
+      hi = hi.cwiseMax(row(GV, GF(gf, k)));
     }
+    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, out); });
   }
   sortUnique(out.garment_edges);
   sortUnique(out.body_edges);

@@ -12,7 +12,9 @@
 
 namespace virtual_tryon {
 
-class BodyBVH;  // FCL BVH over the body's faces (defined in intersections.cpp, FCL stays there)
+// The body's face trees: FCL's (ray and distance queries) and the edge-face detection's box tree
+// (core/geometry/fcl_bvh.h; FCL stays in the core's sources).
+class BodyBVH;
 
 class Body {
  public:
@@ -39,7 +41,7 @@ class Body {
   const Eigen::Vector3d& boxMin() const { return box_min_; }  // axis-aligned bounds
   const Eigen::Vector3d& boxMax() const { return box_max_; }
 
-  // The FCL BVH; built on the first call (thread-safe), then reused.
+  // The face trees; built on the first call (thread-safe), then reused.
   const BodyBVH& bvh() const;
   bool bvhBuilt() const { return bvh_built_; }
   double bvhBuildSeconds() const { return bvh_seconds_; }
