@@ -8,7 +8,9 @@
 #include "virtual_tryon/core/io/pattern_yaml.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
+#include "virtual_tryon/testing/reference_shape.h"
 #include "virtual_tryon/core/io/report.h"
 
 #include <sys/stat.h>
@@ -40,11 +42,16 @@ std::string usage() {
   const vt::MeshLimits limits;
   return "usage:\n"
          "  tryon resolve --body B --garment G --out OUT [--clearance M] [--max-iterations N]\n"
-         "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON.\n"
-         "      Exit 0 converged, 3 not converged, 2 bad input.\n"
-         "  tryon check --body B --garment G\n"
+         "                [--objective smooth|paper]\n"
+         "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON,\n"
+         "      with the edge strain and displacement it produced. --objective smooth (default):\n"
+         "      the paper's rounds, then a shape relaxation that keeps every constraint; paper:\n"
+         "      the rounds alone. Exit 0 converged, 3 not converged, 2 bad input.\n"
+         "  tryon check --body B --garment G [--reference INPUT]\n"
          "      Independent brute-force count of crossings (both directions) and inside vertices.\n"
-         "      Exit 0 when all are zero, 3 otherwise.\n"
+         "      With --reference (the garment before it was resolved): also its shape against\n"
+         "      INPUT (edge strain max / p99, displacement, the need, far vertices moved).\n"
+         "      Exit 0 when all counts are zero, 3 otherwise.\n"
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
          "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
          "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
@@ -186,6 +193,15 @@ vt::ResolverParams resolverParams(const std::map<std::string, std::string>& opt)
   const double it = number(opt, "max-iterations", p.max_iterations);
   if (it < 1 || it > 1e7) throw Usage("--max-iterations must be between 1 and 1e7");
   p.max_iterations = static_cast<int>(it);
+  if (opt.count("objective")) {
+    const std::string& o = opt.at("objective");
+    if (o == "smooth")
+      p.objective = vt::ResolverObjective::Smooth;
+    else if (o == "paper")
+      p.objective = vt::ResolverObjective::Paper;
+    else
+      throw Usage("--objective must be 'smooth' or 'paper', got '" + o + "'");
+  }
   return p;
 }
 
@@ -209,7 +225,19 @@ int check(const std::map<std::string, std::string>& opt) {
   const vt::BodyPreparation body = loadBody(required(opt, "body"), limits);
   const vt::TriMesh garment = loadGarment(required(opt, "garment"), limits);
   const vt::ReferenceCounts c = vt::referenceCounts(body.mesh, garment, body.check.closed);
-  std::cout << vt::toJson(c) << std::endl;
+  if (!opt.count("reference")) {
+    std::cout << vt::toJson(c) << std::endl;
+  } else {
+    const vt::TriMesh input = loadGarment(opt.at("reference"), limits);
+    if (input.V.rows() != garment.V.rows() || input.F.rows() != garment.F.rows() || input.F != garment.F)
+      throw std::invalid_argument("--reference " + opt.at("reference") + ": " + std::to_string(input.V.rows()) +
+                                  " vertices / " + std::to_string(input.F.rows()) +
+                                  " faces, not the garment's faces and vertex order (" +
+                                  std::to_string(garment.V.rows()) + " / " + std::to_string(garment.F.rows()) + ")");
+    const vt::ReferenceShape shape =
+        vt::referenceShape(vt::ReferenceReferee(body.mesh), input, garment, body.check.closed);
+    std::cout << "{\"counts\": " << vt::toJson(c) << ", \"shape\": " << vt::toJson(shape) << "}" << std::endl;
+  }
   return (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) == 0 ? 0 : 3;
 }
 
@@ -293,11 +321,12 @@ int main(int argc, char** argv) {
     const std::string cmd = argv[1];
     const auto opt = parseOptions(argc, argv, 2);
     if (cmd == "resolve") {
-      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations", "max-vertices", "max-faces"});
+      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations", "objective", "max-vertices",
+                           "max-faces"});
       return resolve(opt);
     }
     if (cmd == "check") {
-      allowOnly(opt, cmd, {"body", "garment", "max-vertices", "max-faces"});
+      allowOnly(opt, cmd, {"body", "garment", "reference", "max-vertices", "max-faces"});
       return check(opt);
     }
     if (cmd == "drape") {

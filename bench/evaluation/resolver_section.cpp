@@ -10,6 +10,7 @@
 #include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/testing/push_out_baseline.h"
 #include "virtual_tryon/testing/reference_bvh.h"
+#include "virtual_tryon/testing/reference_shape.h"
 
 #include <algorithm>
 
@@ -72,10 +73,11 @@ Displacement displacement(const vt::TriMesh& a, const vt::TriMesh& b) {
   return d;
 }
 
-enum class Method { Ours, PerStencil, PushOut };
+enum class Method { Ours, Paper, PerStencil, PushOut };
 const char* methodName(Method m) {
   switch (m) {
     case Method::Ours: return "ours";
+    case Method::Paper: return "paper";
     case Method::PerStencil: return "per_stencil";
     case Method::PushOut: return "push_out";
   }
@@ -83,11 +85,19 @@ const char* methodName(Method m) {
 }
 const char* methodLabel(Method m) {
   switch (m) {
-    case Method::Ours: return "resolver, impact zones (Sun et al. 2016)";
-    case Method::PerStencil: return "baseline: resolver with per-stencil projection instead of zones";
+    case Method::Ours: return "resolver, impact zones, then the shape relaxation (objective smooth)";
+    case Method::Paper: return "resolver, impact zones, the paper's formulation alone (objective paper)";
+    case Method::PerStencil: return "baseline: per-stencil projection instead of zones (objective paper)";
     case Method::PushOut: return "baseline: vertex push-out (learned-model post-processing)";
   }
   return "";
+}
+
+vt::ResolverParams methodParams(Method m) {
+  vt::ResolverParams p;
+  p.solver = m == Method::PerStencil ? vt::ZoneSolver::PerStencilProjection : vt::ZoneSolver::ImpactZone;
+  p.objective = m == Method::Ours ? vt::ResolverObjective::Smooth : vt::ResolverObjective::Paper;
+  return p;
 }
 
 }  // namespace
@@ -101,7 +111,7 @@ void resolverSection(const Options& o) {
             {"scene", "source", "body_faces", "garment_vertices", "method", "label", "garment_edge_before",
              "body_edge_before", "inside_before", "max_depth_before_m", "garment_edge_after", "body_edge_after",
              "inside_after", "max_depth_after_m", "moved_vertices", "mean_displacement_m", "max_displacement_m",
-             "time_median_s", "time_min_s", "time_max_s", "runs", "iterations", "converged", "reason"});
+             "max_strain", "p99_strain", "need_m", "far_vertices_moved", "time_median_s", "time_min_s", "time_max_s", "runs", "iterations", "converged", "reason"});
   const int runs = o.quick ? 3 : 15;
   bool oursCleanProcedural = true, oursCleanAll = true;
   double worstOursMs = 0;
@@ -115,7 +125,7 @@ void resolverSection(const Options& o) {
     vt::closestPointOnBody(body, sc.body.V.row(0).transpose());
     const vt::ReferenceReferee ref(sc.body);
     const vt::ReferenceCounts before = ref.count(sc.garment);
-    for (Method m : {Method::Ours, Method::PerStencil, Method::PushOut}) {
+    for (Method m : {Method::Ours, Method::Paper, Method::PerStencil, Method::PushOut}) {
       // Traced runs: independent counts after every step (observer time left out of the seconds).
       // The runs are deterministic, so the counts repeat; the times of the fastest run are kept, the
       // least disturbed by other load on the machine.
@@ -138,8 +148,7 @@ void resolverSection(const Options& o) {
           emit(1, push.seconds_total, std::nan(""), g);
           seconds = push.seconds_total;
         } else {
-          vt::ResolverParams p;
-          p.solver = m == Method::Ours ? vt::ZoneSolver::ImpactZone : vt::ZoneSolver::PerStencilProjection;
+          vt::ResolverParams p = methodParams(m);
           p.on_iteration = [&](const vt::ResolverIteration& it, const vt::TriMesh& mesh) {
             emit(it.iteration, it.seconds, static_cast<double>(it.garment_edge_crossings + it.body_edge_crossings), mesh);
           };
@@ -158,15 +167,13 @@ void resolverSection(const Options& o) {
         vt::TriMesh h = sc.garment;
         if (m == Method::PushOut)
           vt::pushOutBaseline(body, h);
-        else {
-          vt::ResolverParams p;
-          p.solver = m == Method::Ours ? vt::ZoneSolver::ImpactZone : vt::ZoneSolver::PerStencilProjection;
-          vt::resolvePenetrations(body, h, p);
-        }
+        else
+          vt::resolvePenetrations(body, h, methodParams(m));
         out = std::move(h);
       });
       const vt::ReferenceCounts after = ref.count(out);
       const Displacement disp = displacement(out, sc.garment);
+      const vt::ReferenceShape shape = vt::referenceShape(ref, sc.garment, out, body.closed());
       const bool converged = m == Method::PushOut ? true : rep.converged;
       const std::string reason = m == Method::PushOut
                                      ? "one pass: " + std::to_string(push.vertices_inside) + " inside vertices moved"
@@ -174,7 +181,8 @@ void resolverSection(const Options& o) {
       table.row({sc.name, sc.source, static_cast<long>(sc.body.F.rows()), static_cast<long>(sc.garment.V.rows()),
                  methodName(m), methodLabel(m), before.garment_edge_crossings, before.body_edge_crossings,
                  before.vertices_inside, before.max_depth, after.garment_edge_crossings, after.body_edge_crossings,
-                 after.vertices_inside, after.max_depth, disp.moved, disp.mean, disp.max, t.median, t.min, t.max,
+                 after.vertices_inside, after.max_depth, disp.moved, disp.mean, disp.max, shape.max_strain,
+                 shape.p99_strain, shape.need, shape.far_vertices_moved, t.median, t.min, t.max,
                  runs, m == Method::PushOut ? 1 : rep.iterations, converged, reason});
       if (m == Method::Ours) {
         const bool clean = after.garment_edge_crossings + after.body_edge_crossings + after.vertices_inside == 0;

@@ -52,6 +52,12 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   m.clearance = r.clearance;
   m.mean_displacement = r.mean_displacement;
   m.max_displacement = r.max_displacement;
+  m.max_edge_strain = r.max_edge_strain;
+  m.p99_edge_strain = r.p99_edge_strain;
+  m.objective = r.objective;
+  m.relaxed = r.relaxed;
+  m.relaxation_sweeps = static_cast<std::uint32_t>(r.relaxation.sweeps);
+  m.seconds_relaxation = r.seconds_relaxation;
   m.time_budget_spent = r.time_budget_spent;
   m.max_condition_estimate = r.max_condition_estimate;
   m.seconds_detection = r.seconds_detection;

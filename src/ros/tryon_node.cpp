@@ -122,6 +122,24 @@ std::string TryonNode::frameOf(const pcl_msgs::PolygonMesh& msg) {
   return msg.header.frame_id.empty() ? msg.cloud.header.frame_id : msg.header.frame_id;
 }
 
+// ~objective: "smooth" (default: the rounds, then the shape relaxation) or "paper" (the rounds
+// alone); ~relaxation/max_sweeps and ~relaxation/strain_limit tune the relaxation.
+void TryonNode::readObjective(ResolverParams& p) {
+  const ResolverParams d;
+  std::string objective;
+  pnh_.param("objective", objective, std::string("smooth"));
+  if (objective == "paper") {
+    p.objective = ResolverObjective::Paper;
+  } else {
+    if (objective != "smooth")
+      ROS_WARN_STREAM("tryon_node: ~objective must be 'smooth' or 'paper', got '" << objective
+                                                                                 << "'; using 'smooth'");
+    p.objective = ResolverObjective::Smooth;
+  }
+  p.relaxation.max_sweeps = readCount(pnh_, "relaxation/max_sweeps", d.relaxation.max_sweeps);
+  p.relaxation.strain_limit = readDouble(pnh_, "relaxation/strain_limit", d.relaxation.strain_limit, false);
+}
+
 void TryonNode::readParameters() {
   const ResolverParams d;
   ResolverParams& p = settings_.resolver;
@@ -132,6 +150,7 @@ void TryonNode::readParameters() {
   pnh_.param("check_inside", p.check_inside, d.check_inside);
   pnh_.param("push_out_inside", p.push_out_inside, d.push_out_inside);
   p.time_budget = readDouble(pnh_, "time_budget", d.time_budget, false);
+  readObjective(p);
   settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
   pnh_.param("body_frame", settings_.body_frame, std::string());
   pnh_.param("auto_fit", settings_.auto_fit, false);

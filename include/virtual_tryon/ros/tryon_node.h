@@ -101,6 +101,7 @@ class TryonNode {
     virtual_tryon::DrapeReport report;
   };
 
+  void readObjective(ResolverParams& p);
   void readParameters();
   // Reads the drape/ parameters over DrapeParams' defaults (drape_handler.cpp).
   static DrapeParams readDrapeParameters(const ros::NodeHandle& pnh, const ResolverParams& resolver);

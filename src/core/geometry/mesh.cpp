@@ -176,6 +176,13 @@ MeshValidation validate(const TriMesh& mesh, const std::string& what, const Mesh
   boundingBox(mesh, lo, hi);
   r.extent = (hi - lo).maxCoeff();
   r.degenerate_faces = countDegenerateFaces(mesh, std::max((hi - lo).norm(), 1e-300));
+  if (r.degenerate_faces == static_cast<std::size_t>(mesh.F.rows())) {
+    // Nothing to collide with or to move out: no face has an area, so no normal and no inside.
+    const std::string faces = r.degenerate_faces == 1 ? "its only face has"
+                                                      : "all " + std::to_string(r.degenerate_faces) + " of its faces have";
+    fatal(r, what + ": " + faces + " zero area (a repeated vertex or collinear corners)");
+    return r;
+  }
   r.duplicate_faces = countDuplicateFaces(mesh);
   r.duplicate_vertices = countDuplicateVertices(mesh);
   r.unused_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));

@@ -12,6 +12,25 @@ namespace virtual_tryon {
 
 using json::Obj;
 
+namespace {
+
+std::string toJson(const ShapeRelaxationReport& x, const ResolverReport& r) {
+  if (!r.relaxed) return "null";
+  return Obj()
+      .add("max_edge_strain_before", r.max_edge_strain_before_relaxation)
+      .add("active_vertices", x.active_vertices)
+      .add("sweeps", x.sweeps)
+      .add("steps_back", x.steps_back)
+      .add("plane_queries", x.plane_queries)
+      .add("detections", x.detections)
+      .add("last_step_m", x.last_step)
+      .add("clean", x.clean)
+      .add("seconds", x.seconds)
+      .str();
+}
+
+}  // namespace
+
 std::string toJson(const ResolverReport& r) {
   return Obj()
       .add("converged", r.converged)
@@ -31,10 +50,16 @@ std::string toJson(const ResolverReport& r) {
       .add("clearance_m", r.clearance)
       .add("mean_displacement_m", r.mean_displacement)
       .add("max_displacement_m", r.max_displacement)
+      .add("max_edge_strain", r.max_edge_strain)
+      .add("p99_edge_strain", r.p99_edge_strain)
+      .add("objective", r.objective)
+      .add("relaxed", r.relaxed)
+      .json("relaxation", toJson(r.relaxation, r))
       .add("time_budget_spent", r.time_budget_spent)
       .add("max_condition_estimate", r.max_condition_estimate)
       .add("seconds_detection", r.seconds_detection)
       .add("seconds_solve", r.seconds_solve)
+      .add("seconds_relaxation", r.seconds_relaxation)
       .add("seconds_total", r.seconds_total)
       .str();
 }

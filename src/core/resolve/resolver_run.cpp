@@ -11,6 +11,23 @@ namespace virtual_tryon {
 namespace resolver_run {
 namespace {
 
+// Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
+std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
+  std::vector<double> s;
+  s.reserve(static_cast<std::size_t>(E.rows()));
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const double l0 = (input.V.row(E(e, 0)) - input.V.row(E(e, 1))).norm();
+    if (l0 > 0) s.push_back(std::abs((garment.V.row(E(e, 0)) - garment.V.row(E(e, 1))).norm() / l0 - 1));
+  }
+  if (s.empty()) s.push_back(0);
+  std::sort(s.begin(), s.end());
+  return s;
+}
+
+}  // namespace
+
+namespace {
+
 double meanLength(const MatrixX3d& V, const MatrixX2i& E) {
   double sum = 0;
   for (Eigen::Index e = 0; e < E.rows(); ++e) sum += (V.row(E(e, 0)) - V.row(E(e, 1))).norm();
@@ -134,6 +151,7 @@ ResolverRun::ResolverRun(const Body& body, TriMesh& garment, const ResolverParam
                          const Stopwatch& clock)
     : body_(body),
       garment_(garment),
+      input_(garment),
       params_(params),
       clock_(clock),
       nv_(static_cast<int>(garment.V.rows())),
@@ -397,6 +415,24 @@ void ResolverRun::pushOutInsidePieces() {
   record(it);
 }
 
+void ResolverRun::pushOutInsideVertices() {
+  if (!insideTest_ || insideCount_ == 0) return;
+  const double t0 = clock_.now();
+  movedList_.clear();
+  for (int v = 0; v < nv_; ++v) {
+    if (!inside_[v]) continue;
+    const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+    moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
+  }
+  ResolverIteration it;
+  it.push_out = true;
+  it.moved_vertices = movedList_.size();
+  rep_.seconds_solve += clock_.now() - t0;
+  redetect();
+  if (error() < best_) newBest();
+  record(it);
+}
+
 bool ResolverRun::decideStop() {
   if (rep_.iterations >= params_.max_iterations) {
     reason_ << "iteration limit " << params_.max_iterations << " reached with " << crossings_.size()
@@ -512,6 +548,16 @@ void ResolverRun::stopNothingMoved() {
   restoreBest();
 }
 
+bool ResolverRun::relaxShape() {
+  if (params_.objective != ResolverObjective::Smooth || !rep_.converged) return false;
+  const double t0 = clock_.now();
+  rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
+  rep_.relaxation = virtual_tryon::relaxShape(body_, input_, garment_, topo_, d_, params_.relaxation);
+  rep_.relaxed = true;
+  rep_.seconds_relaxation = clock_.now() - t0;
+  return true;
+}
+
 ResolverReport ResolverRun::finish() {
   if (!rep_.converged && pushedOut_)
     reason_ << " (after pieces found wholly inside were pushed out to their nearest body points)";
@@ -522,6 +568,8 @@ ResolverReport ResolverRun::finish() {
     rep_.vertices_inside_after = static_cast<std::size_t>(std::count(in.begin(), in.end(), 1));
   }
   displacementStats();
+  shapeStats();
+  rep_.objective = params_.objective == ResolverObjective::Smooth ? "smooth" : "paper";
   rep_.reason = reason_.str();
   rep_.seconds_total = clock_.now();
   return std::move(rep_);
@@ -530,6 +578,17 @@ ResolverReport ResolverRun::finish() {
 // Moved vertices (those that end away from their start), mean and largest displacement.
 void ResolverRun::displacementStats() {
   double sum = 0;
+  if (rep_.relaxed) {  // the relaxation moves vertices the rounds never touched
+    for (int v = 0; v < nv_; ++v) {
+      const double len = (garment_.V.row(v) - input_.V.row(v)).norm();
+      if (len == 0) continue;
+      ++rep_.moved_vertices;
+      sum += len;
+      rep_.max_displacement = std::max(rep_.max_displacement, len);
+    }
+    rep_.mean_displacement = rep_.moved_vertices ? sum / static_cast<double>(rep_.moved_vertices) : 0.0;
+    return;
+  }
   for (std::size_t i = 0; i < touchedList_.size(); ++i) {
     const double len = (garment_.V.row(touchedList_[i]) - startPos_[i]).norm();
     if (len == 0) continue;
@@ -538,6 +597,13 @@ void ResolverRun::displacementStats() {
     rep_.max_displacement = std::max(rep_.max_displacement, len);
   }
   rep_.mean_displacement = rep_.moved_vertices ? sum / static_cast<double>(rep_.moved_vertices) : 0.0;
+}
+
+void ResolverRun::shapeStats() {
+  const std::vector<double> strain = edgeStrains(input_, garment_, topo_.edges);
+  rep_.max_edge_strain = strain.back();
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(strain.size())));
+  rep_.p99_edge_strain = strain[std::max<std::size_t>(rank, 1) - 1];
 }
 
 }  // namespace resolver_run

@@ -7,7 +7,8 @@
 //   then, step by step until one of them says stop:
 //     with no crossing left:      decideStopCrossingFree(), else pushOutInsidePieces()
 //     otherwise:                  decideStop(), else solveRound() (which stops when nothing moved)
-//   finish()                      the final counts and displacement statistics; returns the report
+//   relaxShape()                  converged, smooth objective: the shape relaxation
+//   finish()                      the final counts, displacement and strain statistics; the report
 // A stage after the loop (say, for a converged garment) goes between the loop and finish(): every
 // move goes through moveVertex() and redetect(), which keep the crossings, the inside flags and
 // the displacement statistics up to date.
@@ -67,6 +68,9 @@ class ResolverRun {
   ResolverRun(const Body& body, TriMesh& garment, const ResolverParams& params, const Stopwatch& clock);
 
   void detect();
+  // Every vertex found inside, to its nearest body point plus the clearance (the rounds then clear
+  // what a vertex move cannot see: edges through the body, body edges through the garment).
+  void pushOutInsideVertices();
   bool crossingFree() const { return crossings_.size() == 0; }
   // The stop checks of a step with no crossing left (converged, pieces wholly inside that may not
   // or cannot be pushed out, budget); true to stop. Else pushOutInsidePieces() is next.
@@ -76,6 +80,9 @@ class ResolverRun {
   bool decideStop();
   // One round; false when it moved nothing (the run stops, in the best state).
   bool solveRound();
+  // For a converged run with the smooth objective: the shape relaxation (shape_relaxation.h),
+  // which keeps the garment free of crossings; false when it does not apply.
+  bool relaxShape();
   // The last stage: the report, moved out of the run.
   ResolverReport finish();
 
@@ -107,9 +114,11 @@ class ResolverRun {
   void apply(const ZoneSolution& sol);
   void stopNothingMoved();
   void displacementStats();
+  void shapeStats();
 
   const Body& body_;
   TriMesh& garment_;
+  const TriMesh input_;  // the garment as it came in
   const ResolverParams& params_;
   Stopwatch clock_;
   ResolverReport rep_;

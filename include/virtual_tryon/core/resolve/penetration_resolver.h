@@ -9,6 +9,7 @@
 
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/resolve/shape_relaxation.h"
 
 #include <cstddef>
 #include <functional>
@@ -27,6 +28,18 @@ enum class ZoneSolver {
   // mean of their displacements (Jacobi projection with constraint averaging). No zones, so no
   // contradiction is ever detected: such spots only stall.
   PerStencilProjection,
+};
+
+// What a converged run does with the garment's shape.
+enum class ResolverObjective {
+  // The paper as written: the rounds' minimum displacements and nothing else. Each illegal vertex
+  // is lifted to the plane of the crossed body face (eq. 1), which on a curved body lies above the
+  // surface under it, and only stencil vertices move, so single vertices stand out as spikes.
+  Paper,
+  // The default: the paper's rounds, then the shape relaxation of shape_relaxation.h (moved
+  // vertices and their rings share the move, edges keep their input vectors as far as the body
+  // allows, no crossing comes back).
+  Smooth,
 };
 
 // One entry per step of the run, for error-against-time plots: the state after the first
@@ -61,6 +74,11 @@ struct ResolverParams {
   // resolving; when false they are only reported.
   bool push_out_inside = true;
   ZoneSolver solver = ZoneSolver::ImpactZone;
+  ResolverObjective objective = ResolverObjective::Smooth;
+  ShapeRelaxationParams relaxation;  // for ResolverObjective::Smooth
+  // Smooth objective: before the rounds, move every vertex found inside to its nearest body point
+  // plus the clearance (a closed body), so the rounds only clear what a vertex cannot see.
+  bool push_out_first = true;
   // Wall-clock limit in seconds (0: none), checked before every round. When spent the run stops,
   // not converged, the reason says so, and the garment is left in the best state reached.
   double time_budget = 0;
@@ -89,8 +107,17 @@ struct ResolverReport {
   double clearance = 0;
   double mean_displacement = 0;  // over moved vertices
   double max_displacement = 0;
+  // Shape against the input garment, over its edges of non-zero length: the largest and the
+  // 99th-percentile (nearest rank) edge strain |l / l0 - 1|.
+  double max_edge_strain = 0;
+  double p99_edge_strain = 0;
+  std::string objective;          // "paper" or "smooth"
+  bool relaxed = false;           // the shape relaxation ran (smooth objective, converged)
+  double max_edge_strain_before_relaxation = 0;  // the rounds' own result, when relaxed
+  ShapeRelaxationReport relaxation;
   double seconds_detection = 0;
   double seconds_solve = 0;
+  double seconds_relaxation = 0;
   double seconds_total = 0;
   std::vector<ResolverIteration> trace;  // see ResolverIteration
 };

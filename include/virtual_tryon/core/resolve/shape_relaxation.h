@@ -1,0 +1,68 @@
+// Shape relaxation after the resolver: the garment gives back what the resolve did not need.
+//
+// Sun et al.'s rounds move the vertices of each stencil and nothing else, by the depth below the
+// crossed body face's plane. On a curved body that plane lies above the surface under the illegal
+// vertex, and a body face is much smaller than a garment edge, so single vertices are lifted far
+// past the surface (spikes, tents) while their neighbours stay. This stage starts from the
+// resolver's clean state and minimises, over the moved vertices and a few rings round them,
+//   E(u) = sum over edges (i, j) of |u_i - u_j|^2 + mu sum over i of |u_i|^2,   u = x - x_input,
+// the change of every edge vector plus a small pull back to the input, subject to:
+//   - every vertex stays outside the body by its floor: the clearance d for a vertex that the
+//     resolver moved, the smaller of d and its input distance for the others (a vertex that sat
+//     closer than d is not pushed); the body is seen through the tangent plane at each vertex's
+//     nearest body point, refreshed when the vertex has moved `replane_distance` from where it was
+//     taken;
+//   - no new edge-face crossing in either direction: after every sweep the faces round the vertices
+//     that moved are detected again, and a vertex of a new crossing steps back half way to its
+//     last clean position (up to `bisections` times, then all the way) and rests for
+//     `hold_sweeps` sweeps while its neighbours relax round it.
+// Projected Gauss-Seidel on u: each vertex in turn goes to the weighted mean of its neighbours'
+// displacements, then onto its half-space. The garment is clean after every sweep, so the stage can
+// stop anywhere (sweep limit, step below `tolerance`, time budget) and keep what it has.
+#pragma once
+
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/resolve/intersections.h"
+
+#include <cstddef>
+
+namespace virtual_tryon {
+
+struct ShapeRelaxationParams {
+  int max_sweeps = 12;
+  double over_relaxation = 1.6;   // successive over-relaxation factor of the sweeps (1: Gauss-Seidel)
+  double mu = 0.05;               // pull back to the input, against a neighbour's weight of 1
+  int rings = 3;                  // rings of unmoved neighbours that may move too
+  double replane_distance = 0.002;  // m: refresh a vertex's body plane after this move
+  double tolerance = 1e-5;        // m: stop when no vertex moved more than this in a sweep
+  int bisections = 2;
+  // m: a sweep checks the faces round the vertices that moved more than this since they were last
+  // checked; at the end every moved vertex is checked, so the result is clean whatever this is.
+  double check_distance = 0;
+  // After each sweep, edges strained past this (|l / l0 - 1|) are brought back to it (position-
+  // based, both ends sharing the correction); 0: off.
+  double strain_limit = 0.2;
+  int hold_sweeps = 2;            // a vertex that stepped back rests for this many sweeps
+  double time_budget = 0;         // s, 0: none
+};
+
+struct ShapeRelaxationReport {
+  std::size_t active_vertices = 0;   // vertices the stage may move
+  int sweeps = 0;
+  std::size_t steps_back = 0;        // vertex steps undone (halved or reverted) to stay clean
+  std::size_t plane_queries = 0;     // nearest-body-point queries
+  std::size_t detections = 0;        // crossing detections over the moved faces
+  double last_step = 0;              // m, largest vertex move of the last sweep
+  bool clean = true;                 // no crossing was left (always, unless detection failed)
+  double seconds = 0;
+};
+
+// `input` (the garment before the resolver) and `garment` (its clean resolved state) share faces
+// and vertex order; `topo` is the garment's GarmentTopology. `clearance` is the resolver's d (m).
+// Only vertices of `garment` change.
+ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
+                                 const GarmentTopology& topo, double clearance,
+                                 const ShapeRelaxationParams& params = ShapeRelaxationParams());
+
+}  // namespace virtual_tryon

@@ -1,0 +1,331 @@
+#include "virtual_tryon/core/resolve/shape_relaxation.h"
+
+#include "virtual_tryon/core/geometry/point_queries.h"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace virtual_tryon {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kMaxRevertPasses = 64;
+constexpr int kMaxWalkSteps = 16;
+
+class ShapeRelaxation {
+ public:
+  ShapeRelaxation(const Body& body, const TriMesh& input, TriMesh& garment, const GarmentTopology& topo,
+                  double clearance, const ShapeRelaxationParams& params)
+      : body_(body), in_(input), g_(garment), topo_(topo), d_(clearance), p_(params),
+        nv_(static_cast<int>(garment.V.rows())) {}
+
+  ShapeRelaxationReport run() {
+    const auto t0 = Clock::now();
+    buildGraph();
+    chooseActive();
+    setFloors();
+    for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
+    for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
+      if (p_.time_budget > 0 && seconds(t0) >= p_.time_budget) break;
+      for (int v : active_) clean_[v] = g_.V.row(v);
+      sweep_ = s;
+      rep_.last_step = sweep();
+      if (p_.strain_limit > 0) limitStrain();
+      ++rep_.sweeps;
+      verify(p_.check_distance);
+      if (rep_.last_step < p_.tolerance) break;
+    }
+    // Every vertex that moved, checked once more however little it moved since its last check;
+    // should that leave a crossing, the resolver's own clean state is kept.
+    if (!active_.empty() && !verify(0)) {
+      for (int v : active_) g_.V.row(v) = start_[v];
+      rep_.clean = false;
+    }
+    rep_.active_vertices = active_.size();
+    rep_.seconds = seconds(t0);
+    return rep_;
+  }
+
+ private:
+  static double seconds(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  // Neighbours over edges and faces round each vertex, as offsets into flat arrays.
+  void buildGraph() {
+    adj_start_.assign(static_cast<std::size_t>(nv_) + 1, 0);
+    vf_start_.assign(static_cast<std::size_t>(nv_) + 1, 0);
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+      ++adj_start_[topo_.edges(e, 0) + 1];
+      ++adj_start_[topo_.edges(e, 1) + 1];
+    }
+    for (Eigen::Index f = 0; f < g_.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) ++vf_start_[g_.F(f, k) + 1];
+    for (int v = 0; v < nv_; ++v) {
+      adj_start_[v + 1] += adj_start_[v];
+      vf_start_[v + 1] += vf_start_[v];
+    }
+    adj_.resize(static_cast<std::size_t>(adj_start_[nv_]));
+    vf_.resize(static_cast<std::size_t>(vf_start_[nv_]));
+    std::vector<int> fill(adj_start_.begin(), adj_start_.end() - 1);
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+      const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
+      adj_[fill[a]++] = b;
+      adj_[fill[b]++] = a;
+    }
+    fill.assign(vf_start_.begin(), vf_start_.end() - 1);
+    for (Eigen::Index f = 0; f < g_.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) vf_[fill[g_.F(f, k)]++] = static_cast<int>(f);
+    buildBodyCorners();
+  }
+
+  void buildBodyCorners() {
+    const TriMesh& B = body_.mesh();
+    const int nb = static_cast<int>(B.V.rows());
+    bvf_start_.assign(static_cast<std::size_t>(nb) + 1, 0);
+    for (Eigen::Index f = 0; f < B.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) ++bvf_start_[B.F(f, k) + 1];
+    for (int v = 0; v < nb; ++v) bvf_start_[v + 1] += bvf_start_[v];
+    bvf_.resize(static_cast<std::size_t>(bvf_start_[nb]));
+    std::vector<int> fill(bvf_start_.begin(), bvf_start_.end() - 1);
+    for (Eigen::Index f = 0; f < B.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) bvf_[fill[B.F(f, k)]++] = static_cast<int>(f);
+  }
+
+  // The vertices the resolver moved, and `rings` rings of neighbours round them.
+  void chooseActive() {
+    active_flag_.assign(static_cast<std::size_t>(nv_), 0);
+    moved_.assign(static_cast<std::size_t>(nv_), 0);
+    std::vector<int> front;
+    for (int v = 0; v < nv_; ++v)
+      if ((g_.V.row(v) - in_.V.row(v)).squaredNorm() > 0) {
+        moved_[v] = active_flag_[v] = 1;
+        front.push_back(v);
+      }
+    for (int r = 0; r < p_.rings; ++r) {
+      std::vector<int> next;
+      for (int v : front)
+        for (int i = adj_start_[v]; i < adj_start_[v + 1]; ++i)
+          if (!active_flag_[adj_[i]]) {
+            active_flag_[adj_[i]] = 1;
+            next.push_back(adj_[i]);
+          }
+      front.swap(next);
+    }
+    for (int v = 0; v < nv_; ++v)
+      if (active_flag_[v]) active_.push_back(v);
+    clean_.resize(static_cast<std::size_t>(nv_));
+    start_.resize(clean_.size());
+    checked_.resize(clean_.size());
+    plane_point_.resize(clean_.size());
+    plane_normal_.resize(clean_.size());
+    plane_at_.resize(clean_.size());
+    plane_face_.assign(clean_.size(), -1);
+    floor_.assign(clean_.size(), d_);
+    held_.assign(clean_.size(), 0);
+  }
+
+  // The tangent plane of the body at the nearest point to x; outside a ridge the direction from
+  // that point to x is the better normal. The first query of a vertex goes through the body's BVH;
+  // later ones, for a vertex that moved a little, walk from its last face over the faces that share
+  // a corner with the nearest one so far (the nearest point moves little with the vertex).
+  void takePlane(int v, const Eigen::Vector3d& x) {
+    int face = plane_face_[v];
+    Eigen::Vector3d point;
+    if (face < 0) {
+      const ClosestPoint cp = closestPointOnBody(body_, x);
+      face = cp.face;
+      point = cp.point;
+    } else {
+      point = walkToNearest(x, face);
+    }
+    ++rep_.plane_queries;
+    Eigen::Vector3d n = body_.faceNormals().row(face).transpose();
+    const Eigen::Vector3d r = x - point;
+    if (r.norm() > 1e-9 && r.dot(n) > 0) n = r.normalized();
+    plane_face_[v] = face;
+    plane_point_[v] = point;
+    plane_normal_[v] = n;
+    plane_at_[v] = x;
+  }
+
+  Eigen::Vector3d walkToNearest(const Eigen::Vector3d& x, int& face) const {
+    const TriMesh& B = body_.mesh();
+    auto nearestOn = [&](int f) {
+      return closestPointOnTriangle(x, B.V.row(B.F(f, 0)).transpose(), B.V.row(B.F(f, 1)).transpose(),
+                                    B.V.row(B.F(f, 2)).transpose());
+    };
+    Eigen::Vector3d best = nearestOn(face);
+    double bestD = (best - x).squaredNorm();
+    for (int step = 0; step < kMaxWalkSteps; ++step) {
+      const int from = face;
+      for (int k = 0; k < 3; ++k) {
+        const int c = B.F(from, k);
+        for (int i = bvf_start_[c]; i < bvf_start_[c + 1]; ++i) {
+          const Eigen::Vector3d q = nearestOn(bvf_[i]);
+          const double dq = (q - x).squaredNorm();
+          if (dq < bestD) {
+            bestD = dq;
+            best = q;
+            face = bvf_[i];
+          }
+        }
+      }
+      if (face == from) break;
+    }
+    return best;
+  }
+
+  void setFloors() {
+    for (int v : active_) {
+      const Eigen::Vector3d x = g_.V.row(v).transpose();
+      takePlane(v, x);
+      if (!moved_[v]) floor_[v] = std::min(d_, std::max(0.0, (x - plane_point_[v]).dot(plane_normal_[v])));
+    }
+  }
+
+  // One projected Gauss-Seidel sweep; returns the largest vertex move.
+  double sweep() {
+    double largest = 0;
+    for (int v : active_) {
+      if (held_[v] > sweep_) continue;
+      Eigen::RowVector3d u = Eigen::RowVector3d::Zero();
+      for (int i = adj_start_[v]; i < adj_start_[v + 1]; ++i) u += g_.V.row(adj_[i]) - in_.V.row(adj_[i]);
+      u /= static_cast<double>(adj_start_[v + 1] - adj_start_[v]) + p_.mu;
+      Eigen::Vector3d x = (in_.V.row(v) + u).transpose();
+      x = g_.V.row(v).transpose() + p_.over_relaxation * (x - g_.V.row(v).transpose());
+      if ((x - plane_at_[v]).norm() > p_.replane_distance) takePlane(v, x);
+      const double sd = (x - plane_point_[v]).dot(plane_normal_[v]);
+      if (sd < floor_[v]) x += (floor_[v] - sd) * plane_normal_[v];
+      largest = std::max(largest, (x.transpose() - g_.V.row(v)).norm());
+      g_.V.row(v) = x.transpose();
+    }
+    return largest;
+  }
+
+  // Edges longer than (1 + strain_limit) or shorter than (1 - strain_limit) times their input length
+  // are brought back to that bound, each end moving half (a held or inactive end not at all), then
+  // each moved end goes back onto its half-space.
+  void limitStrain() {
+    const double s = p_.strain_limit;
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+      const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
+      const bool ma = active_flag_[a] && held_[a] <= sweep_, mb = active_flag_[b] && held_[b] <= sweep_;
+      if (!ma && !mb) continue;
+      const double l0 = (in_.V.row(a) - in_.V.row(b)).norm();
+      Eigen::RowVector3d ab = g_.V.row(b) - g_.V.row(a);
+      const double l = ab.norm();
+      if (!(l0 > 0) || !(l > 0)) continue;
+      const double target = std::clamp(l, (1 - s) * l0, (1 + s) * l0);
+      if (target == l) continue;
+      const Eigen::RowVector3d corr = (l - target) / l * ab;
+      const double wa = ma ? (mb ? 0.5 : 1.0) : 0.0;
+      if (ma) project(a, g_.V.row(a) + wa * corr);
+      if (mb) project(b, g_.V.row(b) - (1 - wa) * corr);
+    }
+  }
+
+  void project(int v, const Eigen::RowVector3d& to) {
+    Eigen::Vector3d x = to.transpose();
+    const double sd = (x - plane_point_[v]).dot(plane_normal_[v]);
+    if (sd < floor_[v]) x += (floor_[v] - sd) * plane_normal_[v];
+    g_.V.row(v) = x.transpose();
+  }
+
+  // Detects again round the vertices that moved more than `distance` since their last check (all
+  // that moved at all, for 0). A vertex of a new crossing steps back half way to where this sweep
+  // started, `bisections` times, then all the way (as do the vertices of crossings that this
+  // uncovers); should a crossing still remain (one left by moves too small to be checked before),
+  // its vertices go back to the resolver's state, which is clean, until none is left. Returns
+  // false only if that did not end.
+  bool verify(double distance) {
+    std::vector<int> check, stepped;
+    for (int v : active_) {
+      const double moved = (g_.V.row(v) - checked_[v]).norm();
+      if (moved > distance || (distance == 0 && g_.V.row(v) != start_[v])) check.push_back(v);
+    }
+    stepping_.assign(static_cast<std::size_t>(nv_), 0);
+    const int passes = p_.bisections + 1 + kMaxRevertPasses;
+    for (int pass = 0; pass <= passes; ++pass) {
+      CrossingSet found;
+      detectAround(pass == 0 ? check : stepped, found);
+      if (found.size() == 0) {
+        for (int v : check) checked_[v] = g_.V.row(v);
+        for (int v : stepped) checked_[v] = g_.V.row(v);
+        return true;
+      }
+      if (pass == passes) return false;
+      markCrossed(found, stepped);
+      const std::vector<Eigen::RowVector3d>& towards = pass < passes / 2 ? clean_ : start_;
+      const bool half = pass < p_.bisections;
+      for (int v : stepped) {
+        g_.V.row(v) = half ? Eigen::RowVector3d(0.5 * (g_.V.row(v) + towards[v])) : towards[v];
+        held_[v] = sweep_ + 1 + p_.hold_sweeps;
+        ++rep_.steps_back;
+      }
+    }
+    return false;
+  }
+
+  // Adds the movable vertices of every crossing in `found` to `stepped` (each once).
+  void markCrossed(const CrossingSet& found, std::vector<int>& stepped) {
+    auto mark = [&](int v) {
+      if (!active_flag_[v] || stepping_[v]) return;
+      stepping_[v] = 1;
+      stepped.push_back(v);
+    };
+    for (const auto& c : found.garment_edges) {
+      mark(topo_.edges(c.edge, 0));
+      mark(topo_.edges(c.edge, 1));
+    }
+    for (const auto& c : found.body_edges)
+      for (int k = 0; k < 3; ++k) mark(g_.F(c.face, k));
+  }
+
+  void detectAround(const std::vector<int>& vertices, CrossingSet& found) {
+    faces_.clear();
+    face_mark_.resize(static_cast<std::size_t>(g_.F.rows()), 0);
+    for (int v : vertices)
+      for (int i = vf_start_[v]; i < vf_start_[v + 1]; ++i)
+        if (!face_mark_[vf_[i]]) {
+          face_mark_[vf_[i]] = 1;
+          faces_.push_back(vf_[i]);
+        }
+    for (int f : faces_) face_mark_[f] = 0;
+    if (faces_.empty()) return;
+    std::sort(faces_.begin(), faces_.end());
+    detectCrossings(body_, g_, topo_, found, &faces_);
+    ++rep_.detections;
+  }
+
+  const Body& body_;
+  const TriMesh& in_;
+  TriMesh& g_;
+  const GarmentTopology& topo_;
+  const double d_;
+  const ShapeRelaxationParams& p_;
+  const int nv_;
+  ShapeRelaxationReport rep_;
+  std::vector<int> adj_start_, adj_, vf_start_, vf_, active_, faces_;
+  std::vector<char> active_flag_, moved_, stepping_, face_mark_;
+  std::vector<double> floor_;
+  std::vector<int> held_;  // per vertex: the first sweep it may move again after a step back
+  int sweep_ = 0;
+  // Per vertex: at the start of this sweep, at the start of the stage (the resolver's clean state),
+  // and where it was last checked for crossings.
+  std::vector<Eigen::RowVector3d> clean_, start_, checked_;
+  std::vector<Eigen::Vector3d> plane_point_, plane_normal_, plane_at_;
+  std::vector<int> plane_face_;
+  std::vector<int> bvf_start_, bvf_;  // the body's faces round each body vertex
+};
+
+}  // namespace
+
+ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
+                                 const GarmentTopology& topo, double clearance,
+                                 const ShapeRelaxationParams& params) {
+  return ShapeRelaxation(body, input, garment, topo, clearance, params).run();
+}
+
+}  // namespace virtual_tryon
