@@ -1,6 +1,7 @@
 #include "virtual_tryon/core/body/body_preparation.h"
 
 #include "core/body/body_analysis.h"
+#include "core/geometry/wording.h"
 
 #include <chrono>
 #include <sstream>
@@ -9,16 +10,8 @@
 namespace virtual_tryon {
 namespace {
 
-std::string plural(std::size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
-std::string metres(double v) {
-  std::ostringstream o;
-  o.precision(4);
-  o << v;
-  return o.str();
-}
+using wording::metres;
+using wording::plural;
 
 // What a body needs beyond a usable mesh (see body_preparation.h), from the analysis of the mesh as
 // it will be used: the warnings are appended to `warnings`; false with `error` when the body is

@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/geometry/mesh.h"
 
+#include "core/geometry/wording.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -12,16 +14,8 @@ namespace virtual_tryon {
 
 namespace {
 
-std::string plural(std::size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
-
-std::string metres(double v) {
-  std::ostringstream o;
-  o.precision(4);
-  o << v;
-  return o.str();
-}
+using wording::metres;
+using wording::plural;
 
 void fatal(MeshValidation& r, const std::string& message) {
   r.ok = false;
@@ -328,6 +322,17 @@ int connectedComponents(const TriMesh& mesh, std::vector<int>& label) {
     label[i] = id[r];
   }
   return count;
+}
+
+void facesRoundVertices(const MatrixX3i& F, int numVertices, std::vector<int>& start, std::vector<int>& faces) {
+  start.assign(static_cast<std::size_t>(numVertices) + 1, 0);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++start[F(f, k) + 1];
+  for (int v = 0; v < numVertices; ++v) start[v + 1] += start[v];
+  faces.resize(static_cast<std::size_t>(start[numVertices]));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) faces[fill[F(f, k)]++] = static_cast<int>(f);
 }
 
 }  // namespace virtual_tryon

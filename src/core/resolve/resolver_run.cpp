@@ -99,14 +99,7 @@ int parity(const std::unordered_map<int, int>& flips, int e) {
 
 GarmentGraph::GarmentGraph(const TriMesh& garment, const GarmentTopology& topo) {
   const int nv = static_cast<int>(garment.V.rows());
-  vf_start.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (Eigen::Index f = 0; f < garment.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++vf_start[garment.F(f, k) + 1];
-  for (int v = 0; v < nv; ++v) vf_start[v + 1] += vf_start[v];
-  vf.resize(static_cast<std::size_t>(vf_start[nv]));
-  std::vector<int> fill(vf_start.begin(), vf_start.end() - 1);
-  for (Eigen::Index f = 0; f < garment.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) vf[fill[garment.F(f, k)]++] = static_cast<int>(f);
+  facesRoundVertices(garment.F, nv, vf_start, vf);
 
   adj_start.assign(static_cast<std::size_t>(nv) + 1, 0);
   for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
@@ -116,7 +109,7 @@ GarmentGraph::GarmentGraph(const TriMesh& garment, const GarmentTopology& topo) 
   for (int v = 0; v < nv; ++v) adj_start[v + 1] += adj_start[v];
   adj_v.resize(static_cast<std::size_t>(adj_start[nv]));
   adj_e.resize(adj_v.size());
-  fill.assign(adj_start.begin(), adj_start.end() - 1);
+  std::vector<int> fill(adj_start.begin(), adj_start.end() - 1);
   for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
     const int a = topo.edges(e, 0), b = topo.edges(e, 1);
     adj_v[fill[a]] = b;
@@ -399,19 +392,25 @@ void ResolverRun::pushOutInsidePieces() {
   const double t0 = clock_.now();
   movedList_.clear();
   for (int p : insidePieces_)
-    for (int i = graph_.piece_start[p]; i < graph_.piece_start[p + 1]; ++i) {
-      const int v = graph_.piece_members[i];
-      const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
-      moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
-    }
+    for (int i = graph_.piece_start[p]; i < graph_.piece_start[p + 1]; ++i) pushToNearest(graph_.piece_members[i]);
+  pushedOut_ = true;
+  rep_.vertices_inside_after = 0;
+  finishPushOut(t0, true);
+}
+
+void ResolverRun::pushToNearest(int v) {
+  const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+  moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
+}
+
+// The solve time since t0, the crossings round the moved vertices, the best state, the trace.
+void ResolverRun::finishPushOut(double t0, bool alwaysNewBest) {
   ResolverIteration it;
   it.push_out = true;
   it.moved_vertices = movedList_.size();
   rep_.seconds_solve += clock_.now() - t0;
-  pushedOut_ = true;
-  rep_.vertices_inside_after = 0;
   redetect();
-  newBest();
+  if (alwaysNewBest || error() < best_) newBest();
   record(it);
 }
 
@@ -419,18 +418,9 @@ void ResolverRun::pushOutInsideVertices() {
   if (!insideTest_ || insideCount_ == 0) return;
   const double t0 = clock_.now();
   movedList_.clear();
-  for (int v = 0; v < nv_; ++v) {
-    if (!inside_[v]) continue;
-    const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
-    moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
-  }
-  ResolverIteration it;
-  it.push_out = true;
-  it.moved_vertices = movedList_.size();
-  rep_.seconds_solve += clock_.now() - t0;
-  redetect();
-  if (error() < best_) newBest();
-  record(it);
+  for (int v = 0; v < nv_; ++v)
+    if (inside_[v]) pushToNearest(v);
+  finishPushOut(t0, false);
 }
 
 bool ResolverRun::decideStop() {

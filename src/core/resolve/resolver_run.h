@@ -104,6 +104,8 @@ class ResolverRun {
   void restoreBest();
   void describeBest();
   void moveVertex(int v, const Eigen::RowVector3d& to);
+  void pushToNearest(int v);  // to the nearest body point plus the clearance
+  void finishPushOut(double t0, bool alwaysNewBest);
   void redetect();
   void redetectFaces();
   void reclassifyMoved();

@@ -2,6 +2,8 @@
 
 #include "virtual_tryon/core/geometry/point_queries.h"
 
+#include "core/resolve/resolver_run.h"
+
 #include <algorithm>
 #include <chrono>
 #include <vector>
@@ -18,11 +20,11 @@ class ShapeRelaxation {
   ShapeRelaxation(const Body& body, const TriMesh& input, TriMesh& garment, const GarmentTopology& topo,
                   double clearance, const ShapeRelaxationParams& params)
       : body_(body), in_(input), g_(garment), topo_(topo), d_(clearance), p_(params),
-        nv_(static_cast<int>(garment.V.rows())) {}
+        nv_(static_cast<int>(garment.V.rows())), graph_(garment, topo) {}
 
   ShapeRelaxationReport run() {
     const auto t0 = Clock::now();
-    buildGraph();
+    buildBodyCorners();
     chooseActive();
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
@@ -52,46 +54,10 @@ class ShapeRelaxation {
     return std::chrono::duration<double>(Clock::now() - t0).count();
   }
 
-  // Neighbours over edges and faces round each vertex, as offsets into flat arrays.
-  void buildGraph() {
-    adj_start_.assign(static_cast<std::size_t>(nv_) + 1, 0);
-    vf_start_.assign(static_cast<std::size_t>(nv_) + 1, 0);
-    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
-      ++adj_start_[topo_.edges(e, 0) + 1];
-      ++adj_start_[topo_.edges(e, 1) + 1];
-    }
-    for (Eigen::Index f = 0; f < g_.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) ++vf_start_[g_.F(f, k) + 1];
-    for (int v = 0; v < nv_; ++v) {
-      adj_start_[v + 1] += adj_start_[v];
-      vf_start_[v + 1] += vf_start_[v];
-    }
-    adj_.resize(static_cast<std::size_t>(adj_start_[nv_]));
-    vf_.resize(static_cast<std::size_t>(vf_start_[nv_]));
-    std::vector<int> fill(adj_start_.begin(), adj_start_.end() - 1);
-    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
-      const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
-      adj_[fill[a]++] = b;
-      adj_[fill[b]++] = a;
-    }
-    fill.assign(vf_start_.begin(), vf_start_.end() - 1);
-    for (Eigen::Index f = 0; f < g_.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) vf_[fill[g_.F(f, k)]++] = static_cast<int>(f);
-    buildBodyCorners();
+  void buildBodyCorners() {
+    facesRoundVertices(body_.mesh().F, static_cast<int>(body_.mesh().V.rows()), bvf_start_, bvf_);
   }
 
-  void buildBodyCorners() {
-    const TriMesh& B = body_.mesh();
-    const int nb = static_cast<int>(B.V.rows());
-    bvf_start_.assign(static_cast<std::size_t>(nb) + 1, 0);
-    for (Eigen::Index f = 0; f < B.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) ++bvf_start_[B.F(f, k) + 1];
-    for (int v = 0; v < nb; ++v) bvf_start_[v + 1] += bvf_start_[v];
-    bvf_.resize(static_cast<std::size_t>(bvf_start_[nb]));
-    std::vector<int> fill(bvf_start_.begin(), bvf_start_.end() - 1);
-    for (Eigen::Index f = 0; f < B.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) bvf_[fill[B.F(f, k)]++] = static_cast<int>(f);
-  }
 
   // The vertices the resolver moved, and `rings` rings of neighbours round them.
   void chooseActive() {
@@ -106,10 +72,10 @@ class ShapeRelaxation {
     for (int r = 0; r < p_.rings; ++r) {
       std::vector<int> next;
       for (int v : front)
-        for (int i = adj_start_[v]; i < adj_start_[v + 1]; ++i)
-          if (!active_flag_[adj_[i]]) {
-            active_flag_[adj_[i]] = 1;
-            next.push_back(adj_[i]);
+        for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i)
+          if (!active_flag_[graph_.adj_v[i]]) {
+            active_flag_[graph_.adj_v[i]] = 1;
+            next.push_back(graph_.adj_v[i]);
           }
       front.swap(next);
     }
@@ -191,8 +157,8 @@ class ShapeRelaxation {
     for (int v : active_) {
       if (held_[v] > sweep_) continue;
       Eigen::RowVector3d u = Eigen::RowVector3d::Zero();
-      for (int i = adj_start_[v]; i < adj_start_[v + 1]; ++i) u += g_.V.row(adj_[i]) - in_.V.row(adj_[i]);
-      u /= static_cast<double>(adj_start_[v + 1] - adj_start_[v]) + p_.mu;
+      for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) u += g_.V.row(graph_.adj_v[i]) - in_.V.row(graph_.adj_v[i]);
+      u /= static_cast<double>(graph_.adj_start[v + 1] - graph_.adj_start[v]) + p_.mu;
       Eigen::Vector3d x = (in_.V.row(v) + u).transpose();
       x = g_.V.row(v).transpose() + p_.over_relaxation * (x - g_.V.row(v).transpose());
       if ((x - plane_at_[v]).norm() > p_.replane_distance) takePlane(v, x);
@@ -287,10 +253,10 @@ class ShapeRelaxation {
     faces_.clear();
     face_mark_.resize(static_cast<std::size_t>(g_.F.rows()), 0);
     for (int v : vertices)
-      for (int i = vf_start_[v]; i < vf_start_[v + 1]; ++i)
-        if (!face_mark_[vf_[i]]) {
-          face_mark_[vf_[i]] = 1;
-          faces_.push_back(vf_[i]);
+      for (int i = graph_.vf_start[v]; i < graph_.vf_start[v + 1]; ++i)
+        if (!face_mark_[graph_.vf[i]]) {
+          face_mark_[graph_.vf[i]] = 1;
+          faces_.push_back(graph_.vf[i]);
         }
     for (int f : faces_) face_mark_[f] = 0;
     if (faces_.empty()) return;
@@ -307,7 +273,8 @@ class ShapeRelaxation {
   const ShapeRelaxationParams& p_;
   const int nv_;
   ShapeRelaxationReport rep_;
-  std::vector<int> adj_start_, adj_, vf_start_, vf_, active_, faces_;
+  const resolver_run::GarmentGraph graph_;  // faces round each vertex, neighbours over edges
+  std::vector<int> active_, faces_;
   std::vector<char> active_flag_, moved_, stepping_, face_mark_;
   std::vector<double> floor_;
   std::vector<int> held_;  // per vertex: the first sweep it may move again after a step back

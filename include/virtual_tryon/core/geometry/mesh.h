@@ -80,6 +80,11 @@ MatrixX3d faceNormals(const TriMesh& mesh);
 // Area-weighted unit vertex normals, #V by 3.
 MatrixX3d vertexNormals(const TriMesh& mesh);
 
+// The faces round each vertex, as offsets: the faces of vertex v are faces[start[v] ..
+// start[v + 1]), in increasing order. `numVertices` >= every index in F (libigl's
+// vertex_triangle_adjacency, flattened).
+void facesRoundVertices(const MatrixX3i& F, int numVertices, std::vector<int>& start, std::vector<int>& faces);
+
 // Unique undirected edges, #E by 2 with E(e,0) < E(e,1), sorted. If faceEdges is given it
 // receives #F by 3: faceEdges(f,k) is the index of the edge from corner k to corner (k+1)%3.
 MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges = nullptr);
