@@ -32,8 +32,8 @@ namespace virtual_tryon {
 struct ShapeRelaxationParams {
   int max_sweeps = 12;
   double over_relaxation = 1.6;   // successive over-relaxation factor of the sweeps (1: Gauss-Seidel)
-  double mu = 0.05;               // pull back to the input, against a neighbour's weight of 1
-  int rings = 3;                  // rings of unmoved neighbours that may move too
+  double mu = 0.02;               // pull back to the input, against a neighbour's weight of 1
+  int rings = 5;                  // rings of unmoved neighbours that may move too
   double replane_distance = 0.002;  // m: refresh a vertex's body plane after this move
   double tolerance = 1e-5;        // m: stop when no vertex moved more than this in a sweep
   int bisections = 2;
