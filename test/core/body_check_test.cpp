@@ -1,3 +1,4 @@
+#include "test_helpers.h"
 #include "virtual_tryon/core/body/body_check.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/scenes/procedural.h"
@@ -8,10 +9,9 @@
 #include <string>
 
 using namespace virtual_tryon;
+using virtual_tryon_test::contains;
 
 namespace {
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // Splits edge (a, b) of face f at its midpoint m: (a, b, c) becomes (a, m, c), (m, b, c) and the
 // zero-area face (a, b, m), which keeps the half-edge a -> b for the neighbour across ab. The mesh

@@ -1,3 +1,4 @@
+#include "test_helpers.h"
 #include "virtual_tryon/core/body/body_check.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/geometry/mesh.h"
@@ -9,10 +10,9 @@
 #include <vector>
 
 using namespace virtual_tryon;
+using virtual_tryon_test::contains;
 
 namespace {
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 BodyPreparationParams policy(InsideOutPolicy p) {
   BodyPreparationParams params;

@@ -1,4 +1,5 @@
 // The `tryon` command end to end: exit codes, JSON on stdout, vertex order of the output.
+#include "test_helpers.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/io/pattern_yaml.h"
@@ -7,98 +8,33 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 using namespace virtual_tryon;
+using namespace virtual_tryon_test;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out;
-};
-
-// Runs the CLI; stdout into r.out, stderr into `errFile` (default: discarded).
-CliRun run(const std::string& args, const std::string& errFile = "/dev/null") {
-  CliRun r;
-  const std::string cmd = std::string(VIRTUAL_TRYON_CLI) + " " + args + " 2>" + errFile;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string tempDir() {
-  std::string tmpl = ::testing::TempDir() + "tryon_cli_XXXXXX";
-  char* d = mkdtemp(&tmpl[0]);
-  return d ? std::string(d) : std::string("/tmp");
-}
-
-void save(const std::string& path, const TriMesh& m) {
-  std::string err;
-  ASSERT_TRUE(writeMesh(path, m, err)) << err;
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
-
-// A bag over the top of a capsule (radius 0.15 m, 0.6 m cylinder along y, top at y = 0.45 m):
-// two 0.6 x 0.3 m panels wrapped half a turn each on a 0.2 m cylinder about y (front facing +z,
-// back turned half a turn), hem at y = 0.25 m, sewn along both sides and across the top. The
-// sewn top rests on the capsule's cap, so the cloth settles.
-const char* kBagPattern = R"(name: bag
-panels:
-  - name: front
-    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]
-    placement: {translation: [0, 0.25, 0], wrap_radius: 0.2}
-  - name: back
-    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]
-    placement: {translation: [0, 0.25, 0], rotation_rpy: [0, 3.141592653589793, 0], wrap_radius: 0.2}
-seams:
-  - a: {panel: front, from: 1, to: 2}
-    b: {panel: back, from: 0, to: 3}
-  - a: {panel: front, from: 0, to: 3}
-    b: {panel: back, from: 1, to: 2}
-  - a: {panel: front, from: 2, to: 3}
-    b: {panel: back, from: 3, to: 2}
-)";
-
 // Writes body.obj (the capsule) and bag.yaml into a new directory; returns it.
 std::string drapeScene() {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_cli_");
   std::string err;
   EXPECT_TRUE(writeMesh(dir + "/body.obj", makeCapsule(0.15, 0.6), err)) << err;
-  std::ofstream(dir + "/bag.yaml") << kBagPattern;
+  std::ofstream(dir + "/bag.yaml") << bagPatternYaml();
   return dir;
 }
 
 }  // namespace
 
 TEST(Cli, ResolveConvergesPrintsJsonAndKeepsVertexOrder) {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_cli_");
   ResolveScene s = makeWrinkledTubeScene(40, 24);
   save(dir + "/body.obj", s.body);
   save(dir + "/garment.ply", s.garment);  // mixed formats on purpose
-  const CliRun r = run("resolve --body " + dir + "/body.obj --garment " + dir + "/garment.ply --out " + dir +
-                    "/out.obj --clearance 0.002");
+  const CliRun r = runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/garment.ply --out " + dir +
+                          "/out.obj --clearance 0.002");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.front(), '{');
   EXPECT_NE(r.out.find("\"converged\": true"), std::string::npos) << r.out;
@@ -113,30 +49,30 @@ TEST(Cli, ResolveConvergesPrintsJsonAndKeepsVertexOrder) {
   const ReferenceCounts c = referenceCounts(s.body, out);
   EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
   // The independent check agrees, through the CLI too.
-  EXPECT_EQ(run("check --body " + dir + "/body.obj --garment " + dir + "/out.obj").code, 0);
-  EXPECT_EQ(run("check --body " + dir + "/body.obj --garment " + dir + "/garment.ply").code, 3);
+  EXPECT_EQ(runCli("check --body " + dir + "/body.obj --garment " + dir + "/out.obj").code, 0);
+  EXPECT_EQ(runCli("check --body " + dir + "/body.obj --garment " + dir + "/garment.ply").code, 3);
 }
 
 TEST(Cli, NotConvergedExitsThree) {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_cli_");
   save(dir + "/finger.stl", makeCylinder(0.01, 0.2, Eigen::Vector3d::Zero(), 16, 3, true));
   save(dir + "/patch.obj", makePatch(0.3, 0.3, 2, 2, Eigen::Vector3d(0.031, 0.0, -0.047)));
-  const CliRun r = run("resolve --body " + dir + "/finger.stl --garment " + dir + "/patch.obj --out " + dir + "/o.obj");
+  const CliRun r = runCli("resolve --body " + dir + "/finger.stl --garment " + dir + "/patch.obj --out " + dir + "/o.obj");
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("\"converged\": false"), std::string::npos) << r.out;
 }
 
 TEST(Cli, BadInputExitsTwo) {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_cli_");
   save(dir + "/body.obj", makeSphere(0.1));
-  EXPECT_EQ(run("resolve --body " + dir + "/missing.obj --garment " + dir + "/body.obj --out " + dir + "/o.obj").code, 2);
-  EXPECT_EQ(run("resolve --body " + dir + "/body.obj --out " + dir + "/o.obj").code, 2);  // no --garment
-  EXPECT_EQ(run("resolve --body " + dir + "/body.obj --garment " + dir + "/body.obj --out " + dir +
-                "/o.obj --max-iterations abc").code, 2);
-  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(runCli("resolve --body " + dir + "/missing.obj --garment " + dir + "/body.obj --out " + dir + "/o.obj").code, 2);
+  EXPECT_EQ(runCli("resolve --body " + dir + "/body.obj --out " + dir + "/o.obj").code, 2);  // no --garment
+  EXPECT_EQ(runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/body.obj --out " + dir +
+                   "/o.obj --max-iterations abc").code, 2);
+  EXPECT_EQ(runCli("frobnicate").code, 2);
   std::ofstream(dir + "/nan.obj") << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
-  EXPECT_EQ(run("resolve --body " + dir + "/body.obj --garment " + dir + "/nan.obj --out " + dir + "/o.obj").code, 2);
-  EXPECT_EQ(run("--help").code, 0);
+  EXPECT_EQ(runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/nan.obj --out " + dir + "/o.obj").code, 2);
+  EXPECT_EQ(runCli("--help").code, 0);
 }
 
 TEST(Cli, DrapeSettlesTheBagOnTheCapsulePrintsJsonAndWritesTheGarment) {
@@ -145,8 +81,8 @@ TEST(Cli, DrapeSettlesTheBagOnTheCapsulePrintsJsonAndWritesTheGarment) {
   std::string err;
   ASSERT_TRUE(readPatternYaml(dir + "/bag.yaml", pattern, err)) << err;  // the test's own input is valid
 
-  const CliRun r = run("drape --body " + dir + "/body.obj --pattern " + dir + "/bag.yaml --out " + dir +
-                       "/bag.obj --spacing 0.03");
+  const CliRun r = runCli("drape --body " + dir + "/body.obj --pattern " + dir + "/bag.yaml --out " + dir +
+                          "/bag.obj --spacing 0.03");
   EXPECT_EQ(r.code, 0) << r.out;
   ASSERT_FALSE(r.out.empty());
   EXPECT_EQ(r.out.front(), '{');
@@ -175,21 +111,21 @@ TEST(Cli, DrapeOptionsReachTheCore) {
   const std::string dir = drapeScene();
   const std::string base = "drape --body " + dir + "/body.obj --pattern " + dir + "/bag.yaml --out " + dir + "/o.obj ";
   // No resolver pass: reported as not run.
-  CliRun r = run(base + "--spacing 0.03 --no-resolve --mode image --tol 0.004 --map-size 128");
+  CliRun r = runCli(base + "--spacing 0.03 --no-resolve --mode image --tol 0.004 --map-size 128");
   EXPECT_TRUE(r.code == 0 || r.code == 3) << r.out;
   EXPECT_TRUE(contains(r.out, "\"resolver_run\": false")) << r.out;
   EXPECT_TRUE(contains(r.out, "\"resolver\": null")) << r.out;
   EXPECT_TRUE(contains(r.out, "\"map_size\": 130")) << r.out;  // 128 + the one-pixel margins
   // Too few iterations: not converged, exit 3, the garment is still written.
   std::remove((dir + "/o.obj").c_str());
-  r = run(base + "--spacing 0.03 --max-iterations 20");
+  r = runCli(base + "--spacing 0.03 --max-iterations 20");
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_TRUE(contains(r.out, "\"converged\": false")) << r.out;
   EXPECT_TRUE(contains(r.out, "\"iterations\": 20,")) << r.out;
   EXPECT_TRUE(contains(r.out, "iteration limit 20")) << r.out;
   EXPECT_TRUE(std::ifstream(dir + "/o.obj").good());
   // An explicit dt below the bound is used as given.
-  r = run(base + "--spacing 0.03 --max-iterations 20 --dt 0.001");
+  r = runCli(base + "--spacing 0.03 --max-iterations 20 --dt 0.001");
   EXPECT_TRUE(contains(r.out, "\"dt_s\": 0.001,")) << r.out;
 }
 
@@ -199,17 +135,17 @@ TEST(Cli, DrapeBadInputExitsTwo) {
   const std::string out = " --out " + dir + "/o.obj";
   const std::string err = dir + "/stderr.txt";
 
-  CliRun r = run("drape" + body + " --pattern " + dir + "/missing.yaml" + out, err);
+  CliRun r = runCli("drape" + body + " --pattern " + dir + "/missing.yaml" + out, err);
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(readText(err), "missing.yaml")) << readText(err);
 
   std::ofstream(dir + "/broken.yaml") << "name: x\npanels:\n  - name: a\n    outline: [[0, 0], [1, 0]]\n";
-  r = run("drape" + body + " --pattern " + dir + "/broken.yaml" + out, err);
+  r = runCli("drape" + body + " --pattern " + dir + "/broken.yaml" + out, err);
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(readText(err), "broken.yaml")) << readText(err);
 
   // dt far above the eq. 4 bound: refused by the core, message on stderr names the bound.
-  r = run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0.03 --dt 0.5", err);
+  r = runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0.03 --dt 0.5", err);
   EXPECT_EQ(r.code, 2) << r.out;
   const std::string e = readText(err);
   EXPECT_TRUE(contains(e, "stability bound")) << e;
@@ -218,13 +154,13 @@ TEST(Cli, DrapeBadInputExitsTwo) {
   EXPECT_FALSE(std::ifstream(dir + "/o.obj").good()) << "no garment is written on failure";
 
   // Parameters out of range (core validateDrapeParams) and usage errors.
-  r = run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --tol -1", err);
+  r = runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --tol -1", err);
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(readText(err), "tol")) << readText(err);
-  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --mode mesh").code, 2);
-  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --map-size 12.5").code, 2);
-  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0").code, 2);
-  EXPECT_EQ(run("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spaceing 0.03").code, 2);
-  EXPECT_EQ(run("drape" + body + out).code, 2);  // no --pattern
+  EXPECT_EQ(runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --mode mesh").code, 2);
+  EXPECT_EQ(runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --map-size 12.5").code, 2);
+  EXPECT_EQ(runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spacing 0").code, 2);
+  EXPECT_EQ(runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spaceing 0.03").code, 2);
+  EXPECT_EQ(runCli("drape" + body + out).code, 2);  // no --pattern
   EXPECT_FALSE(std::ifstream(dir + "/o.obj").good());
 }

@@ -1,5 +1,7 @@
 // The evaluation tool keeps working: the quick evaluation (procedural scenes, a few seconds) writes
 // every file, its key invariants hold, and the plotting script turns it into PNGs and report.md.
+#include "test_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -8,18 +10,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
-namespace {
+using virtual_tryon_test::readText;
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+namespace {
 
 bool exists(const std::string& path) {
   struct stat st;

@@ -1,4 +1,5 @@
 // Stencils, impact zones and the minimum-displacement solve against closed-form answers.
+#include "test_helpers.h"
 #include "virtual_tryon/core/resolve/impact_zones.h"
 #include "virtual_tryon/core/scenes/procedural.h"
 
@@ -9,18 +10,9 @@
 
 using namespace virtual_tryon;
 using V3 = Eigen::Vector3d;
+using virtual_tryon_test::vertexStencil;
 
 namespace {
-
-Stencil vertexStencil(int v, const V3& n, double D) {
-  Stencil s;
-  s.count = 1;
-  s.vertex = {{v, -1, -1}};
-  s.weight = {{1, 0, 0}};
-  s.normal = n.normalized();
-  s.D = D;
-  return s;
-}
 
 V3 displacementOf(const ZoneSolution& sol, int vertex) {
   for (std::size_t i = 0; i < sol.vertices.size(); ++i)

@@ -1,68 +1,34 @@
 // Malformed input to the `tryon` command, table-driven: every case runs the CLI (as
-// test_cli.cpp does) and names the exit code and a substring of stderr; after the bad cases a
+// cli_test.cpp does) and names the exit code and a substring of stderr; after the bad cases a
 // good resolve and a good drape must still work. Mesh cases shared with the conversion and
 // service suites come from test/malformed_meshes.h; file syntax, patterns and drape parameters
 // are the CLI's own.
 #include "../malformed_meshes.h"
+#include "test_helpers.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace vt = virtual_tryon;
+using virtual_tryon_test::bagPatternYaml;
+using virtual_tryon_test::CliRun;
+using virtual_tryon_test::contains;
+using virtual_tryon_test::runCli;
+using virtual_tryon_test::save;
+using virtual_tryon_test::tempDir;
 
 namespace {
 
-struct CliResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string tempDir() {
-  std::string tmpl = ::testing::TempDir() + "tryon_malformed_XXXXXX";
-  char* d = mkdtemp(&tmpl[0]);
-  return d ? std::string(d) : std::string("/tmp");
-}
-
-CliResult run(const std::string& dir, const std::string& args) {
-  CliResult r;
-  const std::string errFile = dir + "/stderr.txt";
-  const std::string cmd = std::string(VIRTUAL_TRYON_CLI) + " " + args + " 2>" + errFile;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = readText(errFile);
-  return r;
-}
-
-void save(const std::string& path, const vt::TriMesh& m) {
-  std::string err;
-  ASSERT_TRUE(vt::writeMesh(path, m, err)) << err;
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+// Runs `tryon ARGS`, stderr through DIR/stderr.txt.
+CliRun run(const std::string& dir, const std::string& args) { return runCli(args, dir + "/stderr.txt"); }
 
 struct CliCase {
   std::string name;
@@ -76,24 +42,11 @@ std::string expand(std::string s, const std::string& dir) {
   return s;
 }
 
-// The bag of test_cli.cpp: two wrapped panels sewn round the top of the capsule.
-std::string bag(const std::string& translation = "[0, 0.25, 0]") {
-  return "name: bag\npanels:\n"
-         "  - name: front\n    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]\n"
-         "    placement: {translation: " + translation + ", wrap_radius: 0.2}\n"
-         "  - name: back\n    outline: [[-0.3, 0.0], [0.3, 0.0], [0.3, 0.3], [-0.3, 0.3]]\n"
-         "    placement: {translation: " + translation + ", rotation_rpy: [0, 3.141592653589793, 0], wrap_radius: 0.2}\n"
-         "seams:\n"
-         "  - a: {panel: front, from: 1, to: 2}\n    b: {panel: back, from: 0, to: 3}\n"
-         "  - a: {panel: front, from: 0, to: 3}\n    b: {panel: back, from: 1, to: 2}\n"
-         "  - a: {panel: front, from: 2, to: 3}\n    b: {panel: back, from: 3, to: 2}\n";
-}
-
 void expectGoodRequestsStillWork(const std::string& dir) {
   const vt::ResolveScene s = vt_malformed::goodScene();
   save(dir + "/good_body.obj", s.body);
   save(dir + "/good_garment.obj", s.garment);
-  CliResult r = run(dir, "resolve --body " + dir + "/good_body.obj --garment " + dir + "/good_garment.obj --out " + dir +
+  CliRun r = run(dir, "resolve --body " + dir + "/good_body.obj --garment " + dir + "/good_garment.obj --out " + dir +
                        "/good_out.obj");
   EXPECT_EQ(r.code, 0) << r.err << r.out;
   EXPECT_TRUE(contains(r.out, "\"converged\": true")) << r.out;
@@ -105,7 +58,7 @@ void expectGoodRequestsStillWork(const std::string& dir) {
   EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
 
   save(dir + "/capsule.obj", vt::makeCapsule(0.15, 0.6));
-  std::ofstream(dir + "/good_bag.yaml") << bag();
+  std::ofstream(dir + "/good_bag.yaml") << bagPatternYaml();
   r = run(dir, "drape --body " + dir + "/capsule.obj --pattern " + dir + "/good_bag.yaml --out " + dir +
                    "/good_bag.obj --spacing 0.03");
   EXPECT_EQ(r.code, 0) << r.err << r.out;
@@ -115,13 +68,13 @@ void expectGoodRequestsStillWork(const std::string& dir) {
 }  // namespace
 
 TEST(MalformedCli, SharedMeshCasesThroughResolve) {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_malformed_");
   for (const vt_malformed::MeshCase& tc : vt_malformed::meshCases()) {
     SCOPED_TRACE(tc.name);
     save(dir + "/body.obj", tc.body);
     save(dir + "/garment.obj", tc.garment);
     std::remove((dir + "/out.obj").c_str());
-    const CliResult r = run(dir, "resolve --body " + dir + "/body.obj --garment " + dir + "/garment.obj --out " + dir + "/out.obj");
+    const CliRun r = run(dir, "resolve --body " + dir + "/body.obj --garment " + dir + "/garment.obj --out " + dir + "/out.obj");
     EXPECT_EQ(r.code, tc.ok ? 0 : 2) << r.err << r.out;
     EXPECT_TRUE(contains(r.err, tc.message)) << "'" << tc.message << "' not in stderr: " << r.err;
     if (tc.ok) {
@@ -138,7 +91,7 @@ TEST(MalformedCli, SharedMeshCasesThroughResolve) {
 }
 
 TEST(MalformedCli, MeshFilesPatternsAndParameters) {
-  const std::string dir = tempDir();
+  const std::string dir = tempDir("tryon_malformed_");
   const vt::ResolveScene s = vt_malformed::goodScene();
   save(dir + "/body.obj", s.body);
   save(dir + "/garment.obj", s.garment);
@@ -164,8 +117,8 @@ TEST(MalformedCli, MeshFilesPatternsAndParameters) {
   write("model.xyz", "1 2 3\n");
 
   // Patterns.
-  write("bag.yaml", bag());
-  write("far_bag.yaml", bag("[1000000, 0.25, 0]"));
+  write("bag.yaml", bagPatternYaml());
+  write("far_bag.yaml", bagPatternYaml("[1000000, 0.25, 0]"));
   write("self_intersecting.yaml", "panels:\n  - name: a\n    outline: [[0, 0], [1, 1], [1, 0], [0, 1]]\n");
   write("missing_panel.yaml", "panels:\n  - name: a\n    outline: [[0, 0], [1, 0], [1, 1], [0, 1]]\n"
                               "seams:\n  - a: {panel: a, from: 0, to: 1}\n    b: {panel: sleeve, from: 0, to: 1}\n");
@@ -240,7 +193,7 @@ TEST(MalformedCli, MeshFilesPatternsAndParameters) {
   };
   for (const CliCase& tc : cases) {
     SCOPED_TRACE(tc.name);
-    const CliResult r = run(dir, expand(tc.args, dir));
+    const CliRun r = run(dir, expand(tc.args, dir));
     EXPECT_EQ(r.code, tc.code) << r.err << r.out;
     EXPECT_TRUE(contains(r.err, tc.stderrHas)) << "'" << tc.stderrHas << "' not in stderr: " << r.err;
     if (tc.code == 2) {

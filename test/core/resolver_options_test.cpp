@@ -1,6 +1,7 @@
 // Resolver options used by the evaluation: the per-iteration trace and its observer, the
 // per-stencil baseline solver, the time budget and the best state, the inside-out body; and the
 // zone conditioning report.
+#include "test_helpers.h"
 #include "virtual_tryon/core/resolve/impact_zones.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/scenes/procedural.h"
@@ -14,17 +15,9 @@
 
 using namespace virtual_tryon;
 using V3 = Eigen::Vector3d;
+using virtual_tryon_test::vertexStencil;
 
 namespace {
-
-Stencil vertexStencil(int v, const V3& n, double D) {
-  Stencil s;
-  s.count = 1;
-  s.vertex = {{v, -1, -1}};
-  s.normal = n.normalized();
-  s.D = D;
-  return s;
-}
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,3 +1,4 @@
+#include "test_helpers.h"
 #include "virtual_tryon/core/body/body_check.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/scenes/procedural.h"
@@ -13,12 +14,11 @@
 #include <string>
 
 using namespace virtual_tryon;
+using virtual_tryon_test::contains;
 
 namespace {
 
 const double kPi = 3.14159265358979323846;
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // The analytic sphere of the tests and a fine icosphere of it (20480 faces: its chords stay within
 // 0.03 mm of the sphere).

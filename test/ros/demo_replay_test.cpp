@@ -3,6 +3,7 @@
 // call. The node must mesh the scan into a closed, outward body, resolve the garment mesh and drape
 // the pattern, and publish both fits, latched, with zero crossings by a brute-force count, plus
 // the markers.
+#include "fixtures.h"
 #include "marker_wait.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/testing/reference_check.h"
@@ -20,6 +21,8 @@
 #include <vector>
 
 namespace vt = virtual_tryon;
+using virtual_tryon_test::meshFromMsg;
+using virtual_tryon_test::waitUntil;
 
 namespace {
 
@@ -55,42 +58,35 @@ struct Collector {
 
   // Waits (wall clock) until the body and a report of both kinds arrived.
   bool waitForAll(double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> l(m);
-        if (body && body_report && reports.count("resolve") && reports.count("drape")) return true;
-      }
-      ros::WallDuration(0.1).sleep();
-    }
-    return false;
+    return waitUntil(
+        [this] {
+          std::lock_guard<std::mutex> l(m);
+          return body && body_report && reports.count("resolve") && reports.count("drape");
+        },
+        seconds, 0.1);
   }
 
   // The garment published with the report of `kind` (same stamp). The two topics arrive in
   // either order, so it waits a little for the garment.
   pcl_msgs::PolygonMesh::ConstPtr garmentOf(const std::string& kind) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
-    do {
-      {
-        std::lock_guard<std::mutex> l(m);
-        const auto r = reports.at(kind);
-        for (const auto& g : garments)
-          if (g->header.stamp == r->header.stamp) return g;
-      }
-      ros::WallDuration(0.05).sleep();
-    } while (ros::WallTime::now() < deadline);
-    return nullptr;
+    pcl_msgs::PolygonMesh::ConstPtr found;
+    waitUntil(
+        [&] {
+          std::lock_guard<std::mutex> l(m);
+          const auto r = reports.at(kind);
+          for (const auto& g : garments)
+            if (g->header.stamp == r->header.stamp) {
+              found = g;
+              return true;
+            }
+          return false;
+        },
+        10);
+    return found;
   }
 };
 
 Collector* collector = nullptr;
-
-vt::TriMesh mesh(const pcl_msgs::PolygonMesh& msg) {
-  vt::TriMesh out;
-  std::string error;
-  EXPECT_TRUE(vt::ros_conversions::fromMsg(msg, out, error)) << error;
-  return out;
-}
 
 }  // namespace
 
@@ -105,7 +101,7 @@ TEST(DemoReplay, TheScanWasMeshedIntoAClosedOutwardBody) {
   EXPECT_TRUE(r.normals_estimated);  // the demo scan has no normals, as a scanner gives it
   EXPECT_GT(r.scan_points, 10000u);
   // Checked here on the mesh itself, not only from the node's report.
-  const vt::TriMesh body = mesh(*collector->body);
+  const vt::TriMesh body = meshFromMsg(*collector->body);
   EXPECT_GT(body.numFaces(), 10000);
   EXPECT_TRUE(vt::edgeTopology(body).closed());
   // The procedural body encloses about 0.063 m^3; outward means a positive signed volume.
@@ -116,7 +112,7 @@ TEST(DemoReplay, TheScanWasMeshedIntoAClosedOutwardBody) {
 
 TEST(DemoReplay, BothFittedGarmentsHaveNoCrossingsByABruteForceCount) {
   ASSERT_TRUE(collector->body);
-  const vt::TriMesh body = mesh(*collector->body);
+  const vt::TriMesh body = meshFromMsg(*collector->body);
   for (const std::string kind : {"resolve", "drape"}) {
     SCOPED_TRACE(kind);
     const auto report = collector->reports.at(kind);
@@ -125,7 +121,7 @@ TEST(DemoReplay, BothFittedGarmentsHaveNoCrossingsByABruteForceCount) {
     const auto g = collector->garmentOf(kind);
     ASSERT_TRUE(g) << "no garment published with the " << kind << " report";
     EXPECT_EQ(g->header.frame_id, "body");
-    const vt::TriMesh garment = mesh(*g);
+    const vt::TriMesh garment = meshFromMsg(*g);
     ASSERT_GT(garment.numFaces(), 100);
     const vt::ReferenceCounts c = vt::referenceCounts(body, garment);
     EXPECT_EQ(c.garment_edge_crossings, 0u);
@@ -143,11 +139,9 @@ TEST(DemoReplay, BothFittedGarmentsHaveNoCrossingsByABruteForceCount) {
 }
 
 TEST(DemoReplay, MarkersShowTheBodyTheGarmentAndTheMovedVertices) {
-  visualization_msgs::MarkerArray a;
-  ASSERT_TRUE(virtual_tryon_test::waitForMarkers("/tryon_node/markers", 10.0, a));
-  const auto* body = virtual_tryon_test::findMarker(a, "body", 0);
-  const auto* garment = virtual_tryon_test::findMarker(a, "garment", 1);
-  const auto* moved = virtual_tryon_test::findMarker(a, "moved", 2);
+  const virtual_tryon_test::NodeMarkers markers = virtual_tryon_test::waitForNodeMarkers();
+  ASSERT_TRUE(markers.received);
+  const auto *body = markers.body(), *garment = markers.garment(), *moved = markers.moved();
   ASSERT_TRUE(body && garment && moved);
   EXPECT_EQ(body->type, visualization_msgs::Marker::TRIANGLE_LIST);
   EXPECT_LT(body->color.a, 1.0f);  // semi-transparent

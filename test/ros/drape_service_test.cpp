@@ -16,7 +16,6 @@
 
 #include <gtest/gtest.h>
 
-#include <geometry_msgs/TransformStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -29,12 +28,16 @@
 #include <string>
 
 namespace vt = virtual_tryon;
-namespace rc = virtual_tryon::ros_conversions;
 using vt::Drape;
 
 using virtual_tryon_test::bag;
+using virtual_tryon_test::callService;
 using virtual_tryon_test::capsule;
+using virtual_tryon_test::contains;
+using virtual_tryon_test::meshFromMsg;
 using virtual_tryon_test::patternMsg;
+using virtual_tryon_test::retryWhile;
+using virtual_tryon_test::sendStaticTransform;
 using virtual_tryon_test::toMsg;
 
 namespace {
@@ -54,21 +57,10 @@ Drape::Request request(const pcl_msgs::PolygonMesh& body, const vt::GarmentPatte
 Drape::Response call(const Drape::Request& req) {
   Drape srv;
   srv.request = req;
-  EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(30))) << kService << " never came up";
-  EXPECT_TRUE(ros::service::call(kService, srv)) << "the call itself failed (node died?)";
-  return srv.response;
+  return callService(kService, srv);
 }
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
-
-vt::TriMesh returnedGarment(const Drape::Response& res) {
-  vt::TriMesh m;
-  std::string error;
-  EXPECT_TRUE(rc::fromMsg(res.garment, m, error)) << error;
-  return m;
-}
+vt::TriMesh returnedGarment(const Drape::Response& res) { return meshFromMsg(res.garment); }
 
 // The bag is sewn, settled on the cap, and crosses nothing (by the independent referee).
 void expectDraped(const Drape::Response& res) {
@@ -116,11 +108,9 @@ TEST(DrapeService, DrapesTheBagOnTheCapsuleAndPublishesMarkers) {
   const vt::TriMesh g = returnedGarment(res);
 
   // Latched markers: the body and the draped garment.
-  visualization_msgs::MarkerArray last;
-  ASSERT_TRUE(virtual_tryon_test::waitForMarkers("/tryon_node/markers", 10.0, last))
-      << "no MarkerArray on /tryon_node/markers within 10 s";
-  const visualization_msgs::Marker* body = virtual_tryon_test::findMarker(last, "body", 0);
-  const visualization_msgs::Marker* garment = virtual_tryon_test::findMarker(last, "garment", 1);
+  const virtual_tryon_test::NodeMarkers markers = virtual_tryon_test::waitForNodeMarkers();
+  ASSERT_TRUE(markers.received) << "no MarkerArray on /tryon_node/markers within 10 s";
+  const visualization_msgs::Marker *body = markers.body(), *garment = markers.garment();
   ASSERT_NE(body, nullptr);
   ASSERT_NE(garment, nullptr);
   EXPECT_EQ(garment->action, visualization_msgs::Marker::ADD);
@@ -196,30 +186,16 @@ TEST(DrapeService, PatternInAnotherFrameIsTransformedIntoTheBodyFrame) {
   const Eigen::Isometry3d bodyFromPattern =
       Eigen::Translation3d(1.0, 0, 0.5) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY());
   tf2_ros::StaticTransformBroadcaster broadcaster;
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = ros::Time::now();
-  t.header.frame_id = "body";
-  t.child_frame_id = "pattern_frame";
-  t.transform.translation.x = 1.0;
-  t.transform.translation.z = 0.5;
-  const Eigen::Quaterniond q(bodyFromPattern.rotation());
-  t.transform.rotation.x = q.x();
-  t.transform.rotation.y = q.y();
-  t.transform.rotation.z = q.z();
-  t.transform.rotation.w = q.w();
-  broadcaster.sendTransform(t);
+  sendStaticTransform(broadcaster, "body", "pattern_frame", bodyFromPattern);
 
   // The same bag, with its placements expressed in pattern_frame.
   vt::Pattern p = bag();
   for (vt::PatternPanel& panel : p.panels) panel.placement.pose = bodyFromPattern.inverse() * panel.placement.pose;
 
-  Drape::Response res;
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
-  do {  // the node's tf listener may need a moment for the static transform
-    res = call(request(toMsg(capsule(), "body"), patternMsg(p, "pattern_frame")));
-    if (!contains(res.message, "no transform")) break;
-    ros::WallDuration(0.2).sleep();
-  } while (ros::WallTime::now() < deadline);
+  // The node's tf listener may need a moment for the static transform.
+  Drape::Response res = retryWhile(
+      [&] { return call(request(toMsg(capsule(), "body"), patternMsg(p, "pattern_frame"))); },
+      [](const Drape::Response& r) { return contains(r.message, "no transform"); }, 15);
   expectDraped(res);  // only true when the bag landed on the capsule
 
   res = call(request(toMsg(capsule(), "body"), patternMsg(p, "no_such_frame")));
@@ -231,13 +207,5 @@ TEST(DrapeService, PatternInAnotherFrameIsTransformedIntoTheBodyFrame) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "drape_service_test");
-  ros::NodeHandle nh;  // starts the node; kept alive for the whole run
-  ros::AsyncSpinner spinner(1);  // subscriptions (markers) are served in the background
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return virtual_tryon_test::runClientTests(argc, argv, "drape_service_test");  // the spinner serves the markers
 }

@@ -28,6 +28,7 @@
 namespace vt = virtual_tryon;
 using virtual_tryon_test::bag;
 using virtual_tryon_test::capsule;
+using virtual_tryon_test::meshFromMsg;
 using virtual_tryon_test::patternMsg;
 using virtual_tryon_test::toMsg;
 
@@ -63,13 +64,6 @@ double rssMb(int pid) {
     std::getline(in, key);
   }
   return -1;
-}
-
-vt::TriMesh mesh(const pcl_msgs::PolygonMesh& msg) {
-  vt::TriMesh out;
-  std::string error;
-  EXPECT_TRUE(vt::ros_conversions::fromMsg(msg, out, error)) << error;
-  return out;
 }
 
 struct Stats {
@@ -137,7 +131,7 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
           ++stats.failed_calls;
           continue;
         }
-        const vt::ReferenceCounts c = vt::referenceCounts(scene.body, mesh(srv.response.garment), false);
+        const vt::ReferenceCounts c = vt::referenceCounts(scene.body, meshFromMsg(srv.response.garment), false);
         if (!srv.response.success || c.garment_edge_crossings + c.body_edge_crossings != 0) ++stats.wrong;
         std::lock_guard<std::mutex> l(stats.m);
         stats.resolve_s.push_back((ros::WallTime::now() - t0).toSec());
@@ -150,7 +144,7 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
           ++stats.failed_calls;
           continue;
         }
-        const vt::ReferenceCounts c = vt::referenceCounts(drapeBody, mesh(srv.response.garment), false);
+        const vt::ReferenceCounts c = vt::referenceCounts(drapeBody, meshFromMsg(srv.response.garment), false);
         if (!srv.response.success || srv.response.report.seams_open != 0 ||
             c.garment_edge_crossings + c.body_edge_crossings != 0)
           ++stats.wrong;
@@ -197,10 +191,4 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
   EXPECT_LT(rssEnd - rssWarm, maxGrowth) << "the node's memory grew under a steady load";
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "load_test");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return virtual_tryon_test::runClientTests(argc, argv, "load_test"); }

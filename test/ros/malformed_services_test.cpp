@@ -5,6 +5,7 @@
 // independent referee). Nothing is published on the node's topics, so an empty mesh in a request
 // can only mean "none received".
 #include "../malformed_meshes.h"
+#include "fixtures.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/scenes/procedural.h"
@@ -34,13 +35,15 @@ namespace rc = virtual_tryon::ros_conversions;
 using sensor_msgs::PointField;
 using vt::Drape;
 using vt::ResolvePenetration;
+using virtual_tryon_test::bag;
+using virtual_tryon_test::callService;
+using virtual_tryon_test::capsule;
+using virtual_tryon_test::contains;
 
 namespace {
 
 const std::string kResolve = "/tryon_node/resolve_penetration";
 const std::string kDrape = "/tryon_node/drape";
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // Exact FLOAT64 message (x, y, z at 0, 8, 16) of a mesh, frame "body".
 pcl_msgs::PolygonMesh msg64(const vt::TriMesh& m) {
@@ -75,51 +78,19 @@ ResolvePenetration::Response resolve(const pcl_msgs::PolygonMesh& body, const pc
   ResolvePenetration srv;
   srv.request.body = body;
   srv.request.garment = garment;
-  EXPECT_TRUE(ros::service::waitForService(kResolve, ros::Duration(60))) << kResolve << " never came up";
-  EXPECT_TRUE(ros::service::call(kResolve, srv)) << "the call itself failed (node died?)";
-  return srv.response;
+  return callService(kResolve, srv, 60);
 }
 
 Drape::Response drape(const Drape::Request& req) {
   Drape srv;
   srv.request = req;
-  EXPECT_TRUE(ros::service::waitForService(kDrape, ros::Duration(60))) << kDrape << " never came up";
-  EXPECT_TRUE(ros::service::call(kDrape, srv)) << "the call itself failed (node died?)";
-  return srv.response;
-}
-
-vt::TriMesh capsule() { return vt::makeCapsule(0.15, 0.6); }
-
-// The bag of drape_service_test.cpp: two wrapped panels sewn round the top of the capsule.
-vt::Pattern bag(const Eigen::Vector3d& at = Eigen::Vector3d(0, 0.25, 0)) {
-  vt::Pattern p;
-  p.name = "bag";
-  for (int i = 0; i < 2; ++i) {
-    vt::PatternPanel panel;
-    panel.name = i == 0 ? "front" : "back";
-    panel.outline.resize(4, 2);
-    panel.outline << -0.3, 0.0, 0.3, 0.0, 0.3, 0.3, -0.3, 0.3;
-    panel.placement.pose = Eigen::Translation3d(at) * Eigen::AngleAxisd(M_PI * i, Eigen::Vector3d::UnitY());
-    panel.placement.wrap_radius = 0.2;
-    p.panels.push_back(panel);
-  }
-  vt::PatternSeam right, left, top;
-  right.a = {0, 1, 2};
-  right.b = {1, 0, 3};
-  left.a = {0, 0, 3};
-  left.b = {1, 1, 2};
-  top.a = {0, 2, 3};
-  top.b = {1, 3, 2};
-  p.seams = {right, left, top};
-  return p;
+  return callService(kDrape, srv, 60);
 }
 
 Drape::Request drapeRequest(const vt::TriMesh& body, const vt::Pattern& pattern) {
   Drape::Request req;
   req.body = msg64(body);
-  std_msgs::Header h;
-  h.frame_id = "body";
-  req.pattern = rc::toMsg(pattern, h);
+  req.pattern = virtual_tryon_test::patternMsg(pattern, "body");
   req.spacing = 0.03;
   return req;
 }

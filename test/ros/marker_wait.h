@@ -1,6 +1,8 @@
 // Shared by the rostests: wait for the node's latched MarkerArray and pick markers out of it.
 #pragma once
 
+#include "fixtures.h"
+
 #include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -21,16 +23,12 @@ inline bool waitForMarkers(const std::string& topic, double seconds, visualizati
         out = *a;
         got = true;
       });
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < deadline) {
-    {
-      std::lock_guard<std::mutex> lock(m);
-      if (got) return true;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  std::lock_guard<std::mutex> lock(m);
-  return got;
+  return waitUntil(
+      [&] {
+        std::lock_guard<std::mutex> lock(m);
+        return got;
+      },
+      seconds);
 }
 
 // The marker with namespace `ns` and `id`, or nullptr.
@@ -39,6 +37,23 @@ inline const visualization_msgs::Marker* findMarker(const visualization_msgs::Ma
   for (const auto& mk : a.markers)
     if (mk.ns == ns && mk.id == id) return &mk;
   return nullptr;
+}
+
+// What tryon_node shows on its latched ~markers: the body (namespace "body", id 0), the garment
+// ("garment", 1) and the vertices the last fit moved ("moved", 2); nullptr when missing.
+struct NodeMarkers {
+  bool received = false;  // a MarkerArray arrived in time
+  visualization_msgs::MarkerArray array;
+  const visualization_msgs::Marker* body() const { return findMarker(array, "body", 0); }
+  const visualization_msgs::Marker* garment() const { return findMarker(array, "garment", 1); }
+  const visualization_msgs::Marker* moved() const { return findMarker(array, "moved", 2); }
+};
+
+// Waits up to `seconds` for the node's markers on /tryon_node/markers.
+inline NodeMarkers waitForNodeMarkers(double seconds = 10.0) {
+  NodeMarkers m;
+  m.received = waitForMarkers("/tryon_node/markers", seconds, m.array);
+  return m;
 }
 
 }  // namespace virtual_tryon_test

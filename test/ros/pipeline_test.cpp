@@ -1,6 +1,8 @@
 // Client-side test of tryon_node's pipeline (started by pipeline.test): the ~drape_action action
 // (feedback, result, cancel), two service clients at once while bodies stream in on ~body_mesh,
 // and an unchanged body that costs nothing. Results are judged by the core's brute-force counter.
+// Every wait is for a condition (a result, a feedback, a report of the body sent), with a deadline
+// that fails the test.
 #include "fixtures.h"
 #include "virtual_tryon/testing/reference_check.h"
 
@@ -14,6 +16,9 @@
 #include <virtual_tryon/ResolvePenetration.h>
 
 #include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -22,17 +27,21 @@
 namespace vt = virtual_tryon;
 using virtual_tryon_test::bag;
 using virtual_tryon_test::capsule;
+using virtual_tryon_test::meshFromMsg;
 using virtual_tryon_test::patternMsg;
 using virtual_tryon_test::toMsg;
+using virtual_tryon_test::waitUntil;
 using Client = actionlib::SimpleActionClient<vt::DrapeGarmentAction>;
 
 namespace {
 
-vt::TriMesh mesh(const pcl_msgs::PolygonMesh& msg) {
-  vt::TriMesh out;
-  std::string error;
-  EXPECT_TRUE(vt::ros_conversions::fromMsg(msg, out, error)) << error;
-  return out;
+// The ~drape request of the bag on the capsule.
+vt::Drape bagDrape(double spacing) {
+  vt::Drape srv;
+  srv.request.body = toMsg(capsule(), "body");
+  srv.request.pattern = patternMsg(bag(), "body");
+  srv.request.spacing = spacing;
+  return srv;
 }
 
 vt::DrapeGarmentGoal bagGoal(double spacing) {
@@ -71,14 +80,11 @@ TEST(Pipeline, DrapeActionGivesFeedbackAndTheSameResultAsTheService) {
     EXPECT_TRUE(feedback.front().sewing);
     EXPECT_GT(feedback.front().seam_gap, 0.0);
   }
-  const vt::ReferenceCounts c = vt::referenceCounts(capsule(), mesh(result->garment));
+  const vt::ReferenceCounts c = vt::referenceCounts(capsule(), meshFromMsg(result->garment));
   EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
 
   // The service, same input: the same garment, vertex for vertex (the drape is deterministic).
-  vt::Drape srv;
-  srv.request.body = toMsg(capsule(), "body");
-  srv.request.pattern = patternMsg(bag(), "body");
-  srv.request.spacing = 0.03;
+  vt::Drape srv = bagDrape(0.03);
   ASSERT_TRUE(ros::service::call("/tryon_node/drape", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   EXPECT_EQ(srv.response.report.iterations, result->report.iterations);
@@ -95,9 +101,7 @@ TEST(Pipeline, DrapeActionCanBeCancelled) {
   const ros::WallTime start = ros::WallTime::now();
   client.sendGoal(goal, Client::SimpleDoneCallback(), Client::SimpleActiveCallback(),
                   [&](const vt::DrapeGarmentFeedbackConstPtr&) { ++feedbacks; });
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60);
-  while (feedbacks < 2 && ros::WallTime::now() < deadline) ros::WallDuration(0.01).sleep();
-  ASSERT_GE(feedbacks.load(), 2) << "no feedback while draping";
+  ASSERT_TRUE(waitUntil([&] { return feedbacks >= 2; }, 60, 0.01)) << "no feedback while draping";
   client.cancelGoal();
   ASSERT_TRUE(client.waitForResult(ros::Duration(30)));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::PREEMPTED);
@@ -131,21 +135,18 @@ TEST(Pipeline, TwoClientsAtOnceWhileBodiesStreamIn) {
       srv.request.garment = toMsg(scene.garment, "body");
       ASSERT_TRUE(ros::service::call("/tryon_node/resolve_penetration", srv));
       ASSERT_TRUE(srv.response.success) << srv.response.message;
-      const vt::ReferenceCounts c = vt::referenceCounts(scene.body, mesh(srv.response.garment));
+      const vt::ReferenceCounts c = vt::referenceCounts(scene.body, meshFromMsg(srv.response.garment));
       EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings, 0u);
       ++resolved;
     }
   };
   auto draper = [&] {
     for (int k = 0; k < 2; ++k) {
-      vt::Drape srv;
-      srv.request.body = toMsg(capsule(), "body");
-      srv.request.pattern = patternMsg(bag(), "body");
-      srv.request.spacing = 0.03;
+      vt::Drape srv = bagDrape(0.03);
       ASSERT_TRUE(ros::service::call("/tryon_node/drape", srv));
       ASSERT_TRUE(srv.response.success) << srv.response.message;
       EXPECT_EQ(srv.response.report.seams_open, 0u);
-      const vt::ReferenceCounts c = vt::referenceCounts(capsule(), mesh(srv.response.garment));
+      const vt::ReferenceCounts c = vt::referenceCounts(capsule(), meshFromMsg(srv.response.garment));
       EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
       ++draped;
     }
@@ -166,12 +167,14 @@ TEST(Pipeline, TwoClientsAtOnceWhileBodiesStreamIn) {
   EXPECT_FALSE(srv.response.message.empty());
 }
 
-// Counts the node's ~body_report messages and keeps the last; publishes bodies on ~body_mesh.
+// Keeps every ~body_report the node sends, in order; publishes bodies on ~body_mesh. The latched
+// report of an earlier body may arrive at any time after connecting, so a report is told apart by
+// the body it describes: the same vertex and face counts and, flipped or not, the same enclosed
+// volume.
 struct BodyReports {
   ros::NodeHandle nh;
   std::mutex m;
-  vt::BodyReport last;
-  std::atomic<int> count{0};
+  std::vector<vt::BodyReport> all;
   ros::Subscriber sub;
   ros::Publisher bodies;
 
@@ -179,52 +182,94 @@ struct BodyReports {
     sub = nh.subscribe<vt::BodyReport>("/tryon_node/body_report", 10,
                                        [this](const vt::BodyReport::ConstPtr& r) {
                                          std::lock_guard<std::mutex> l(m);
-                                         last = *r;
-                                         ++count;
+                                         all.push_back(*r);
                                        });
     bodies = nh.advertise<pcl_msgs::PolygonMesh>("/tryon_node/body_mesh", 5);
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10);
-    while (bodies.getNumSubscribers() == 0 && ros::WallTime::now() < deadline)
-      ros::WallDuration(0.05).sleep();
-    ros::WallDuration(1.0).sleep();  // the latched report of an earlier body arrives first
+  }
+
+  // Both ways connected to the node: what is published now reaches it, and its reports reach us.
+  bool connected(double seconds) {
+    return waitUntil([this] { return bodies.getNumSubscribers() > 0 && sub.getNumPublishers() > 0; }, seconds);
+  }
+
+  static bool describes(const vt::BodyReport& r, const vt::TriMesh& mesh) {
+    const double volume = std::abs(vt::signedVolume(mesh));
+    return r.vertices == static_cast<std::uint32_t>(mesh.V.rows()) &&
+           r.faces == static_cast<std::uint32_t>(mesh.F.rows()) &&
+           std::abs(std::abs(r.signed_volume) - volume) <= 1e-6 * volume;
+  }
+
+  // Index of the first report at or after `from` that describes `mesh`, waiting up to `seconds`
+  // for it; -1 when none came.
+  int waitForReportOf(const vt::TriMesh& mesh, std::size_t from, double seconds) {
+    int found = -1;
+    waitUntil(
+        [&] {
+          std::lock_guard<std::mutex> l(m);
+          for (std::size_t i = from; i < all.size(); ++i)
+            if (describes(all[i], mesh)) {
+              found = static_cast<int>(i);
+              return true;
+            }
+          return false;
+        },
+        seconds);
+    return found;
+  }
+
+  // How many reports at or after `from` describe `mesh`.
+  int countOf(const vt::TriMesh& mesh, std::size_t from) {
+    std::lock_guard<std::mutex> l(m);
+    int n = 0;
+    for (std::size_t i = from; i < all.size(); ++i) n += describes(all[i], mesh);
+    return n;
+  }
+
+  vt::BodyReport at(int i) {
+    std::lock_guard<std::mutex> l(m);
+    return all.at(static_cast<std::size_t>(i));
   }
 };
 
 TEST(Pipeline, AnUnchangedBodyIsNotProcessedAgain) {
   BodyReports reports;
-  const int before = reports.count;
-  const pcl_msgs::PolygonMesh body = toMsg(vt::makeSphere(0.25), "body");
-  for (int i = 0; i < 4; ++i) {
+  ASSERT_TRUE(reports.connected(10)) << "not connected to the node's ~body_mesh and ~body_report";
+  const vt::TriMesh sphere = vt::makeSphere(0.25);
+  const pcl_msgs::PolygonMesh body = toMsg(sphere, "body");
+  reports.bodies.publish(body);
+  const int first = reports.waitForReportOf(sphere, 0, 10);
+  ASSERT_GE(first, 0) << "no report of the body within 10 s";
+  for (int i = 1; i < 4; ++i) {
+    ros::WallDuration(0.3).sleep();  // one at a time, as a sensor would send them
     reports.bodies.publish(body);
-    ros::WallDuration(0.3).sleep();
   }
-  ros::WallDuration(1.0).sleep();
-  EXPECT_EQ(reports.count - before, 1) << "the same body four times must be installed once";
-  std::lock_guard<std::mutex> l(reports.m);
-  EXPECT_EQ(reports.last.source, "mesh");
-  EXPECT_TRUE(reports.last.closed);
-  EXPECT_GT(reports.last.signed_volume, 0.0);
+  // Then a different body: the node takes its bodies in order, so once this one's report is in,
+  // every copy of the first has been looked at.
+  const vt::TriMesh other = vt::makeSphere(0.22);
+  ros::WallDuration(0.3).sleep();
+  reports.bodies.publish(toMsg(other, "body"));
+  ASSERT_GE(reports.waitForReportOf(other, static_cast<std::size_t>(first) + 1, 10), 0)
+      << "no report of the second body within 10 s";
+  EXPECT_EQ(reports.countOf(sphere, static_cast<std::size_t>(first)), 1)
+      << "the same body four times must be installed once";
+  const vt::BodyReport r = reports.at(first);
+  EXPECT_EQ(r.source, "mesh");
+  EXPECT_TRUE(r.closed);
+  EXPECT_GT(r.signed_volume, 0.0);
 }
 
 TEST(Pipeline, AnInvertedBodyIsFlippedWithAReport) {
   BodyReports reports;
-  const int before = reports.count;
+  ASSERT_TRUE(reports.connected(10)) << "not connected to the node's ~body_mesh and ~body_report";
   vt::TriMesh inverted = vt::makeSphere(0.2);
   inverted.F.col(1).swap(inverted.F.col(2));
   reports.bodies.publish(toMsg(inverted, "body"));
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(10);
-  while (reports.count == before && ros::WallTime::now() < until) ros::WallDuration(0.05).sleep();
-  ASSERT_GT(reports.count - before, 0);
-  std::lock_guard<std::mutex> l(reports.m);
-  EXPECT_TRUE(reports.last.flipped);
-  EXPECT_GT(reports.last.signed_volume, 0.0);
-  EXPECT_NE(reports.last.summary.find("flipped"), std::string::npos) << reports.last.summary;
+  const int i = reports.waitForReportOf(inverted, 0, 10);
+  ASSERT_GE(i, 0) << "no report of the body within 10 s";
+  const vt::BodyReport r = reports.at(i);
+  EXPECT_TRUE(r.flipped);
+  EXPECT_GT(r.signed_volume, 0.0);
+  EXPECT_NE(r.summary.find("flipped"), std::string::npos) << r.summary;
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "pipeline_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return virtual_tryon_test::runClientTests(argc, argv, "pipeline_test", 2); }

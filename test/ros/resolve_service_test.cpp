@@ -37,7 +37,17 @@ namespace {
 
 const std::string kService = "/tryon_node/resolve_penetration";
 
+using virtual_tryon_test::callService;
+using virtual_tryon_test::contains;
+using virtual_tryon_test::meshFromMsg;
+using virtual_tryon_test::retryWhile;
+using virtual_tryon_test::sendStaticTransform;
 using virtual_tryon_test::toMsg;
+
+// Whether a response says the node is not ready yet: `what` is in its message.
+auto says(const std::string& what) {
+  return [what](const ResolvePenetration::Response& r) { return contains(r.message, what); };
+}
 
 // Calls the service; gtest assertion failures when the service is not there or the call fails.
 ResolvePenetration::Response call(const pcl_msgs::PolygonMesh& body,
@@ -48,22 +58,11 @@ ResolvePenetration::Response call(const pcl_msgs::PolygonMesh& body,
   srv.request.garment = garment;
   srv.request.clearance = clearance;
   srv.request.max_iterations = maxIterations;
-  EXPECT_TRUE(ros::service::waitForService(kService, ros::Duration(30))) << kService << " never came up";
-  EXPECT_TRUE(ros::service::call(kService, srv)) << "the call itself failed (node died?)";
-  return srv.response;
-}
-
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
+  return callService(kService, srv);
 }
 
 // The returned garment, converted back; fails the test when it does not convert.
-vt::TriMesh returnedGarment(const ResolvePenetration::Response& res) {
-  vt::TriMesh m;
-  std::string error;
-  EXPECT_TRUE(rc::fromMsg(res.garment, m, error)) << error;
-  return m;
-}
+vt::TriMesh returnedGarment(const ResolvePenetration::Response& res) { return meshFromMsg(res.garment); }
 
 // The result is the input's mesh (same order and faces) with no crossing left, by the referee.
 void expectResolved(const vt::TriMesh& body, const vt::TriMesh& input,
@@ -144,11 +143,9 @@ TEST(TryonNode, PublishesBodyAndGarmentMarkers) {
   ASSERT_TRUE(res.success) << res.message;
   const vt::TriMesh out = returnedGarment(res);
 
-  visualization_msgs::MarkerArray last;
-  ASSERT_TRUE(virtual_tryon_test::waitForMarkers("/tryon_node/markers", 10.0, last))
-      << "no MarkerArray on /tryon_node/markers within 10 s";
-  const visualization_msgs::Marker* body = virtual_tryon_test::findMarker(last, "body", 0);
-  const visualization_msgs::Marker* garment = virtual_tryon_test::findMarker(last, "garment", 1);
+  const virtual_tryon_test::NodeMarkers markers = virtual_tryon_test::waitForNodeMarkers();
+  ASSERT_TRUE(markers.received) << "no MarkerArray on /tryon_node/markers within 10 s";
+  const visualization_msgs::Marker *body = markers.body(), *garment = markers.garment();
   ASSERT_NE(body, nullptr);
   ASSERT_NE(garment, nullptr);
   for (const auto* mk : {body, garment}) {
@@ -203,13 +200,7 @@ TEST(TryonNode, EmptyRequestUsesTheLatestTopicData) {
 
   // Until the node has both messages it answers "none has been received".
   const pcl_msgs::PolygonMesh empty;
-  ResolvePenetration::Response res;
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
-  do {
-    res = call(empty, empty);
-    if (!contains(res.message, "received")) break;
-    ros::WallDuration(0.2).sleep();
-  } while (ros::WallTime::now() < deadline);
+  ResolvePenetration::Response res = retryWhile([&] { return call(empty, empty); }, says("received"), 15);
   expectResolved(s.body, s.garment, res);
   EXPECT_GT(res.report.garment_edge_crossings_before + res.report.body_edge_crossings_before, 0u);
 
@@ -233,17 +224,7 @@ TEST(TryonNode, GarmentInAnotherFrameIsTransformedIntoTheBodyFrame) {
   const Eigen::Isometry3d bodyFromGarment =
       Eigen::Translation3d(0.5, 0, 0) * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ());
   tf2_ros::StaticTransformBroadcaster broadcaster;
-  geometry_msgs::TransformStamped t;
-  t.header.stamp = ros::Time::now();
-  t.header.frame_id = "body";
-  t.child_frame_id = "garment_frame";
-  t.transform.translation.x = 0.5;
-  const Eigen::Quaterniond q(bodyFromGarment.rotation());
-  t.transform.rotation.x = q.x();
-  t.transform.rotation.y = q.y();
-  t.transform.rotation.z = q.z();
-  t.transform.rotation.w = q.w();
-  broadcaster.sendTransform(t);
+  sendStaticTransform(broadcaster, "body", "garment_frame", bodyFromGarment);
 
   vt::TriMesh inGarmentFrame = s.garment;
   const Eigen::Isometry3d garmentFromBody = bodyFromGarment.inverse();
@@ -252,13 +233,8 @@ TEST(TryonNode, GarmentInAnotherFrameIsTransformedIntoTheBodyFrame) {
   ASSERT_GT(maxDistance(inGarmentFrame.V, s.garment.V), 0.3);  // really elsewhere
 
   // The node's tf listener may need a moment to receive the static transform.
-  ResolvePenetration::Response res;
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(15);
-  do {
-    res = call(toMsg(s.body, "body"), toMsg(inGarmentFrame, "garment_frame"));
-    if (!contains(res.message, "no transform")) break;
-    ros::WallDuration(0.2).sleep();
-  } while (ros::WallTime::now() < deadline);
+  const ResolvePenetration::Response res = retryWhile(
+      [&] { return call(toMsg(s.body, "body"), toMsg(inGarmentFrame, "garment_frame")); }, says("no transform"), 15);
 
   expectResolved(s.body, s.garment, res);
   EXPECT_EQ(res.garment.header.frame_id, "body");
@@ -292,15 +268,7 @@ TEST(TryonNode, UnknownGarmentFrameFailsWithinTheTimeout) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "resolve_service_test");
-  ros::NodeHandle nh;  // starts the node; kept alive for the whole run
-  ros::AsyncSpinner spinner(1);  // subscriptions (markers) are served in the background
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return virtual_tryon_test::runClientTests(argc, argv, "resolve_service_test");  // the spinner serves the markers
 }
 
 TEST(TryonNode, AStaleGarmentTransformFailsWithinTheTimeout) {

@@ -1,4 +1,4 @@
-#include "cloud_builder.h"
+#include "../cloud_builder.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <gtest/gtest.h>

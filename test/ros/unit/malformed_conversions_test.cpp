@@ -2,10 +2,10 @@
 // does with it (ros_conversions::fromMsg, then validateBody for a body or validate for a
 // garment, then placementWarnings), and each case names the exact outcome and a substring of
 // the message. Also pointCloudToPoints (normals) and toMsg's FLOAT64 fallback.
-#include "../malformed_meshes.h"
+#include "../../malformed_meshes.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/geometry/mesh.h"
-#include "cloud_builder.h"
+#include "../cloud_builder.h"
 #include "virtual_tryon/ros/conversions.h"
 
 #include <gtest/gtest.h>
