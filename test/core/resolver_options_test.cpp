@@ -31,6 +31,7 @@ TEST(ResolverOptions, TraceFollowsTheRunAndObserverTimeIsLeftOut) {
   b.bvh();
   ReferenceReferee ref(s.body);
   ResolverParams p;
+  p.objective = ResolverObjective::Paper;  // the rounds themselves
   int calls = 0;
   std::vector<std::size_t> independent;
   p.on_iteration = [&](const ResolverIteration&, const TriMesh& g) {
@@ -97,6 +98,7 @@ TEST(ResolverOptions, TimeBudgetStopsWithTheBestStateAndSaysSo) {
   const TriMesh start = s.garment;
   Body b(s.body);
   ResolverParams p;
+  p.objective = ResolverObjective::Paper;  // the rounds themselves
   p.time_budget = 1e-9;  // spent by the first detection
   const ResolverReport rep = resolvePenetrations(b, s.garment, p);
   EXPECT_FALSE(rep.converged);
@@ -109,11 +111,14 @@ TEST(ResolverOptions, TimeBudgetStopsWithTheBestStateAndSaysSo) {
   // A budget spent half-way: the observer burns it after the first round. The budget is three
   // times what an unobserved run takes on this build (sanitizers make it several times slower).
   TriMesh unobserved = start;
-  const ResolverReport plain = resolvePenetrations(b, unobserved, ResolverParams{});
+  ResolverParams paper;
+  paper.objective = ResolverObjective::Paper;
+  const ResolverReport plain = resolvePenetrations(b, unobserved, paper);
   ASSERT_TRUE(plain.converged) << plain.reason;
   const double budget = 3.0 * plain.seconds_total + 0.01;
   TriMesh g = start;
   ResolverParams q;
+  q.objective = ResolverObjective::Paper;  // the rounds themselves
   q.time_budget = budget;
   q.on_iteration = [budget](const ResolverIteration& it, const TriMesh&) {
     if (it.iteration == 1) {
@@ -139,6 +144,7 @@ TEST(ResolverOptions, AStopWithoutConvergingReturnsTheStateWithTheSmallestError)
   for (int limit : {1, 2, 3}) {
     TriMesh g = s.garment;
     ResolverParams p;
+    p.objective = ResolverObjective::Paper;  // the rounds themselves
     p.max_iterations = limit;
     p.solver = ZoneSolver::PerStencilProjection;
     const ResolverReport rep = resolvePenetrations(b, g, p);
@@ -183,7 +189,9 @@ TEST(ResolverOptions, ADeepRegionKeepsProgressingWhileItsCrossingsStayLevel) {
   const TriMesh torso = makeCapsule(0.15, 0.6, V3::Zero(), 48, 24);
   TriMesh patch = transformed(makePatch(0.4, 0.2, 40, 20), V3::UnitX(), M_PI / 2, V3(0, 0, 0.05));
   Body b(torso);
-  const ResolverReport rep = resolvePenetrations(b, patch);
+  ResolverParams paper;  // the rounds themselves (smooth pushes the strip out before them)
+  paper.objective = ResolverObjective::Paper;
+  const ResolverReport rep = resolvePenetrations(b, patch, paper);
   EXPECT_EQ(rep.reason.find("no progress for"), std::string::npos) << rep.reason;
   EXPECT_GT(rep.iterations, 12);
 }

@@ -415,7 +415,7 @@ void ResolverRun::finishPushOut(double t0, bool alwaysNewBest) {
 }
 
 void ResolverRun::pushOutInsideVertices() {
-  if (!insideTest_ || insideCount_ == 0) return;
+  if (!insideTest_ || insideCount_ == 0 || budgetSpent()) return;
   const double t0 = clock_.now();
   movedList_.clear();
   for (int v = 0; v < nv_; ++v)
@@ -540,9 +540,15 @@ void ResolverRun::stopNothingMoved() {
 
 bool ResolverRun::relaxShape() {
   if (params_.objective != ResolverObjective::Smooth || !rep_.converged) return false;
+  ShapeRelaxationParams relaxation = params_.relaxation;
+  if (params_.time_budget > 0) {  // what is left of the run's budget, if anything
+    const double left = params_.time_budget - clock_.now();
+    if (left <= 0) return false;
+    relaxation.time_budget = relaxation.time_budget > 0 ? std::min(relaxation.time_budget, left) : left;
+  }
   const double t0 = clock_.now();
   rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
-  rep_.relaxation = virtual_tryon::relaxShape(body_, input_, garment_, topo_, d_, params_.relaxation);
+  rep_.relaxation = virtual_tryon::relaxShape(body_, input_, garment_, topo_, d_, relaxation);
   rep_.relaxed = true;
   rep_.seconds_relaxation = clock_.now() - t0;
   return true;

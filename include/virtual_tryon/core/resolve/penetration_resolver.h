@@ -77,7 +77,8 @@ struct ResolverParams {
   ResolverObjective objective = ResolverObjective::Smooth;
   ShapeRelaxationParams relaxation;  // for ResolverObjective::Smooth
   // Smooth objective: before the rounds, move every vertex found inside to its nearest body point
-  // plus the clearance (a closed body), so the rounds only clear what a vertex cannot see.
+  // plus the clearance (a closed body, and push_out_inside), so the rounds only clear what a
+  // vertex cannot see. A time budget also bounds the relaxation (what is left of it).
   bool push_out_first = true;
   // Wall-clock limit in seconds (0: none), checked before every round. When spent the run stops,
   // not converged, the reason says so, and the garment is left in the best state reached.
