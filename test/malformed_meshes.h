@@ -76,6 +76,14 @@ inline std::vector<MeshCase> meshCases() {
   b.F.resize(0, 3);
   cases.push_back({"body with no faces", b, s.garment, false, "no faces"});
 
+  // Every face of zero area: nothing to collide with or to move out (each face's corners on a line).
+  g = s.garment;
+  for (Eigen::Index v = 0; v < g.V.rows(); ++v) g.V.row(v) << 0.001 * static_cast<double>(v), 0, 0;
+  cases.push_back({"garment whose every face has zero area", s.body, g, false, "zero area"});
+  b = s.body;
+  for (Eigen::Index v = 0; v < b.V.rows(); ++v) b.V.row(v) << 0, 0.001 * static_cast<double>(v), 0;
+  cases.push_back({"body whose every face has zero area", b, s.garment, false, "zero area"});
+
   // Degenerate garment faces: a repeated index, and three collinear points.
   g = withFace(s.garment, 0, 0, 1);
   g.V.conservativeResize(g.V.rows() + 1, 3);
