@@ -548,7 +548,7 @@ bool ResolverRun::relaxShape() {
   }
   const double t0 = clock_.now();
   rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
-  rep_.relaxation = virtual_tryon::relaxShape(body_, input_, garment_, topo_, d_, relaxation);
+  rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation);
   rep_.relaxed = true;
   rep_.seconds_relaxation = clock_.now() - t0;
   return true;

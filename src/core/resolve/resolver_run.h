@@ -60,6 +60,12 @@ struct GarmentGraph {
   int pieceSize(int p) const { return piece_start[p + 1] - piece_start[p]; }
 };
 
+// The shape relaxation (shape_relaxation.h) over a run's garment graph, so the run does not build
+// the graph a second time.
+ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
+                                 const GarmentTopology& topo, const GarmentGraph& graph, double clearance,
+                                 const ShapeRelaxationParams& params);
+
 class ResolverRun {
  public:
   // `clock` was started when the call began (the run's times count from there). Builds the

@@ -18,14 +18,14 @@ constexpr int kMaxWalkSteps = 16;
 class ShapeRelaxation {
  public:
   ShapeRelaxation(const Body& body, const TriMesh& input, TriMesh& garment, const GarmentTopology& topo,
-                  double clearance, const ShapeRelaxationParams& params)
+                  const resolver_run::GarmentGraph& graph, double clearance, const ShapeRelaxationParams& params)
       : body_(body), in_(input), g_(garment), topo_(topo), d_(clearance), p_(params),
-        nv_(static_cast<int>(garment.V.rows())), graph_(garment, topo) {}
+        nv_(static_cast<int>(garment.V.rows())), graph_(graph) {}
 
   ShapeRelaxationReport run() {
     const auto t0 = Clock::now();
-    buildBodyCorners();
     chooseActive();
+    if (!active_.empty()) buildBodyCorners();  // nothing moved: no table of the body's corners
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
     for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
@@ -273,7 +273,7 @@ class ShapeRelaxation {
   const ShapeRelaxationParams& p_;
   const int nv_;
   ShapeRelaxationReport rep_;
-  const resolver_run::GarmentGraph graph_;  // faces round each vertex, neighbours over edges
+  const resolver_run::GarmentGraph& graph_;  // faces round each vertex, neighbours over edges
   std::vector<int> active_, faces_;
   std::vector<char> active_flag_, moved_, stepping_, face_mark_;
   std::vector<double> floor_;
@@ -292,7 +292,18 @@ class ShapeRelaxation {
 ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
                                  const GarmentTopology& topo, double clearance,
                                  const ShapeRelaxationParams& params) {
-  return ShapeRelaxation(body, input, garment, topo, clearance, params).run();
+  const resolver_run::GarmentGraph graph(garment, topo);
+  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params).run();
 }
+
+namespace resolver_run {
+
+ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
+                                 const GarmentTopology& topo, const GarmentGraph& graph, double clearance,
+                                 const ShapeRelaxationParams& params) {
+  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params).run();
+}
+
+}  // namespace resolver_run
 
 }  // namespace virtual_tryon
