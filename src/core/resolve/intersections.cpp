@@ -39,25 +39,66 @@ const FaceBoxTree& BodyBVH::faceTree(const TriMesh& mesh) const {
 
 namespace {
 
-// The crossings of garment face gf's three edges with body face bf, and of bf's three edges with gf.
+// Whether a segment whose end-points lie at sa, sb (unnormalised, as segmentCrossesTriangle()
+// computes them) crosses the plane by that predicate's convention.
+bool crossesPlane(double sa, double sb) {
+  return (sa < 0 && sb > 0) || (sa > 0 && sb < 0) || (sa == 0 && sb < 0) || (sb == 0 && sa < 0);
+}
+
+// Signed (unnormalised) distances of q0, q1, q2 from the plane through p0 with normal
+// n = (p1 - p0) x (p2 - p0), computed exactly as segmentCrossesTriangle() computes them, so that a
+// segment it would see cross is never skipped.
+Eigen::Vector3d planeSides(const Eigen::Vector3d& n, const Eigen::Vector3d& p0, const Eigen::Vector3d& q0,
+                           const Eigen::Vector3d& q1, const Eigen::Vector3d& q2) {
+  return Eigen::Vector3d(n.dot(q0 - p0), n.dot(q1 - p0), n.dot(q2 - p0));
+}
+
+// Whether three plane sides (as planeSides() gives them for a normal n) lie all beyond `margin`
+// (times |n|) on the same side.
+bool allOneSide(const Eigen::Vector3d& s, const Eigen::Vector3d& n, double margin) {
+  const double m = margin * n.norm();
+  return (s.array() > m).all() || (s.array() < -m).all();
+}
+
+// A body face at least this far (m) from a garment face's plane, on one side, crosses it in neither
+// direction; the margin is far above the rounding of the predicate, so the shortcut never hides a
+// crossing that the predicate would report (watertightness at shared edges included).
+constexpr double kPlaneMargin = 1e-9;
+
+// The crossings of garment face gf's three edges with body face bf, and of bf's three edges with gf;
+// `gn` is gf's normal (x1 - x0) x (x2 - x0). An edge is tested only when its end-points lie on
+// opposite sides of the other face's plane (the predicate's own first test, done once per pair
+// instead of once per edge); a body face wholly on one side of gf's plane (by kPlaneMargin) crosses
+// nothing.
 void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopology& topo, int bf, int gf,
-                  CrossingSet& out) {
+                  const Eigen::Vector3d& gn, CrossingSet& out) {
   const MatrixX3d& BV = body.mesh().V;
   const MatrixX3i& BF = body.mesh().F;
-  const MatrixX2i& BE = body.edges();
-  const MatrixX3i& BFE = body.faceEdges();
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
-  const Eigen::Vector3d y0 = row(BV, BF(bf, 0)), y1 = row(BV, BF(bf, 1)), y2 = row(BV, BF(bf, 2));
-  const Eigen::Vector3d x0 = row(GV, GF(gf, 0)), x1 = row(GV, GF(gf, 1)), x2 = row(GV, GF(gf, 2));
+  const Eigen::Vector3d y[3] = {row(BV, BF(bf, 0)), row(BV, BF(bf, 1)), row(BV, BF(bf, 2))};
+  const Eigen::Vector3d x[3] = {row(GV, GF(gf, 0)), row(GV, GF(gf, 1)), row(GV, GF(gf, 2))};
+  const Eigen::Vector3d sy = planeSides(gn, x[0], y[0], y[1], y[2]);  // body corners to gf
+  if (allOneSide(sy, gn, kPlaneMargin)) return;
+  const Eigen::Vector3d bn = (y[1] - y[0]).cross(y[2] - y[0]);
+  const Eigen::Vector3d sx = planeSides(bn, y[0], x[0], x[1], x[2]);  // garment corners to bf
+  auto side = [](const Eigen::Vector3d& s, const MatrixX3i& F, int f, int v) {
+    return s[F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2)];
+  };
+  const MatrixX2i& BE = body.edges();
+  const MatrixX3i& BFE = body.faceEdges();
   EdgeFaceHit hit;
   for (int k = 0; k < 3; ++k) {
     const int ge = topo.face_edges(gf, k);
-    const Eigen::Vector3d a = row(GV, topo.edges(ge, 0)), b = row(GV, topo.edges(ge, 1));
-    if (segmentCrossesTriangle(a, b, y0, y1, y2, &hit)) out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
+    const int ga = topo.edges(ge, 0), gb = topo.edges(ge, 1);
+    if (crossesPlane(side(sx, GF, gf, ga), side(sx, GF, gf, gb)) &&
+        segmentCrossesTriangle(row(GV, ga), row(GV, gb), y[0], y[1], y[2], &hit))
+      out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
     const int be = BFE(bf, k);
-    const Eigen::Vector3d p = row(BV, BE(be, 0)), q = row(BV, BE(be, 1));
-    if (segmentCrossesTriangle(p, q, x0, x1, x2, &hit)) out.body_edges.push_back({be, gf, hit.t, hit.bary, hit.sa, hit.sb});
+    const int ba = BE(be, 0), bb = BE(be, 1);
+    if (crossesPlane(side(sy, BF, bf, ba), side(sy, BF, bf, bb)) &&
+        segmentCrossesTriangle(row(BV, ba), row(BV, bb), x[0], x[1], x[2], &hit))
+      out.body_edges.push_back({be, gf, hit.t, hit.bary, hit.sa, hit.sb});
   }
 }
 
@@ -83,7 +124,9 @@ void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
       lo = lo.cwiseMin(row(GV, GF(gf, k)));
       hi = hi.cwiseMax(row(GV, GF(gf, k)));
     }
-    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, out); });
+    const Eigen::Vector3d x0 = row(GV, GF(gf, 0));
+    const Eigen::Vector3d gn = (row(GV, GF(gf, 1)) - x0).cross(row(GV, GF(gf, 2)) - x0);
+    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, out); });
   }
   sortUnique(out.garment_edges);
   sortUnique(out.body_edges);
