@@ -21,6 +21,7 @@ std::string toJson(const ShapeRelaxationReport& x, const ResolverReport& r) {
       .add("active_vertices", x.active_vertices)
       .add("sweeps", x.sweeps)
       .add("steps_back", x.steps_back)
+      .add("contacts", x.contacts)
       .add("plane_queries", x.plane_queries)
       .add("detections", x.detections)
       .add("last_step_m", x.last_step)

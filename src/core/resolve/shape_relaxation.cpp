@@ -5,7 +5,9 @@
 #include "core/resolve/resolver_run.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <unordered_set>
 #include <vector>
 
 namespace virtual_tryon {
@@ -14,6 +16,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kMaxRevertPasses = 64;
 constexpr int kMaxWalkSteps = 16;
+constexpr int kContactPasses = 3;
+// A contact whose movable corners carry less weight than this is left to the step back (moving
+// them would lever them far out).
+constexpr double kMinContactWeight = 0.25;
 
 class ShapeRelaxation {
  public:
@@ -28,15 +34,19 @@ class ShapeRelaxation {
     if (!active_.empty()) buildBodyCorners();  // nothing moved: no table of the body's corners
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
+    const int perCheck = std::max(1, p_.sweeps_per_check);
     for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
       if (p_.time_budget > 0 && seconds(t0) >= p_.time_budget) break;
-      for (int v : active_) clean_[v] = g_.V.row(v);
       sweep_ = s;
+      if (s % perCheck == 0)
+        for (int v : active_) clean_[v] = g_.V.row(v);
       rep_.last_step = sweep();
       if (p_.strain_limit > 0) limitStrain();
+      projectContacts();
       ++rep_.sweeps;
-      verify(p_.check_distance);
-      if (rep_.last_step < p_.tolerance) break;
+      const bool settled = rep_.last_step < p_.tolerance;
+      if ((s + 1) % perCheck == 0 || settled || s + 1 == p_.max_sweeps) verify(p_.check_distance);
+      if (settled) break;
     }
     // Every vertex that moved, checked once more however little it moved since its last check;
     // should that leave a crossing, the resolver's own clean state is kept.
@@ -45,6 +55,7 @@ class ShapeRelaxation {
       rep_.clean = false;
     }
     rep_.active_vertices = active_.size();
+    rep_.contacts = contacts_.size();
     rep_.seconds = seconds(t0);
     return rep_;
   }
@@ -222,6 +233,7 @@ class ShapeRelaxation {
         return true;
       }
       if (pass == passes) return false;
+      addContacts(found);
       markCrossed(found, stepped);
       const std::vector<Eigen::RowVector3d>& towards = pass < passes / 2 ? clean_ : start_;
       const bool half = pass < p_.bisections;
@@ -232,6 +244,65 @@ class ShapeRelaxation {
       }
     }
     return false;
+  }
+
+  // A crossing found after a sweep becomes a contact that every later sweep keeps, so that the
+  // vertices that stepped back do not walk into the same crossing again once released:
+  //   body edge e through garment face (x1, x2, x3) at weights w: the garment point sum w_i x_i
+  //     must lie beyond the edge's outer end along the edge's normal n_e, by the clearance;
+  //   garment edge (a, b) through body face f at t: the edge's point (1 - t) a + t b must lie
+  //     outside f's plane by the clearance.
+  void addContacts(const CrossingSet& found) {
+    const MatrixX3d& BV = body_.mesh().V;
+    for (const auto& c : found.body_edges) {
+      if (!contact_keys_.insert(contactKey(1, c.edge, c.face)).second) continue;
+      const Eigen::Vector3d n = body_.edgeNormals().row(c.edge).transpose();
+      if (n.squaredNorm() == 0) continue;
+      const double top = std::max(n.dot(BV.row(body_.edges()(c.edge, 0)).transpose()),
+                                  n.dot(BV.row(body_.edges()(c.edge, 1)).transpose()));
+      Contact k;
+      k.count = 3;
+      for (int i = 0; i < 3; ++i) {
+        k.vertex[i] = g_.F(c.face, i);
+        k.weight[i] = c.bary[i];
+      }
+      k.normal = n;
+      k.bound = top + d_;
+      contacts_.push_back(k);
+    }
+    for (const auto& c : found.garment_edges) {
+      if (!contact_keys_.insert(contactKey(0, c.edge, c.face)).second) continue;
+      const Eigen::Vector3d n = body_.faceNormals().row(c.face).transpose();
+      Contact k;
+      k.count = 2;
+      k.vertex = {{topo_.edges(c.edge, 0), topo_.edges(c.edge, 1), -1}};
+      k.weight = {{1 - c.t, c.t, 0}};
+      k.normal = n;
+      k.bound = n.dot(BV.row(body_.mesh().F(c.face, 0)).transpose()) + d_;
+      contacts_.push_back(k);
+    }
+  }
+
+  static long long contactKey(int kind, int edge, int face) {
+    return (static_cast<long long>(edge) << 32 | static_cast<unsigned>(face)) * 2 + kind;
+  }
+
+  // Each contact short of its bound moves its movable vertices together along its normal, by the
+  // same amount (the least common move that meets the bound): a contact near one corner does not
+  // lever that corner out by the inverse of its small weight.
+  void projectContacts() {
+    for (int pass = 0; pass < kContactPasses; ++pass)
+      for (const Contact& k : contacts_) {
+        double value = 0, w = 0;
+        for (int i = 0; i < k.count; ++i) {
+          value += k.weight[i] * k.normal.dot(g_.V.row(k.vertex[i]).transpose());
+          if (active_flag_[k.vertex[i]]) w += k.weight[i];
+        }
+        if (value >= k.bound || !(w > kMinContactWeight)) continue;
+        const Eigen::RowVector3d step = ((k.bound - value) / w) * k.normal.transpose();
+        for (int i = 0; i < k.count; ++i)
+          if (active_flag_[k.vertex[i]]) g_.V.row(k.vertex[i]) += step;
+      }
   }
 
   // Adds the movable vertices of every crossing in `found` to `stepped` (each once).
@@ -264,6 +335,16 @@ class ShapeRelaxation {
     detectCrossings(body_, g_, topo_, found, &faces_);
     ++rep_.detections;
   }
+
+  struct Contact {
+    int count = 0;
+    std::array<int, 3> vertex{{-1, -1, -1}};
+    std::array<double, 3> weight{{0, 0, 0}};
+    Eigen::Vector3d normal{0, 0, 0};
+    double bound = 0;  // sum_i weight_i normal . x_i >= bound
+  };
+  std::vector<Contact> contacts_;
+  std::unordered_set<long long> contact_keys_;
 
   const Body& body_;
   const TriMesh& in_;

@@ -12,13 +12,18 @@
 //     closer than d is not pushed); the body is seen through the tangent plane at each vertex's
 //     nearest body point, refreshed when the vertex has moved `replane_distance` from where it was
 //     taken;
-//   - no new edge-face crossing in either direction: after every sweep the faces round the vertices
-//     that moved are detected again, and a vertex of a new crossing steps back half way to its
-//     last clean position (up to `bisections` times, then all the way) and rests for
-//     `hold_sweeps` sweeps while its neighbours relax round it.
+//   - no new edge-face crossing in either direction: every `sweeps_per_check` sweeps the faces
+//     round the vertices that moved are detected again. Each new crossing becomes a contact that
+//     every later sweep keeps (a body edge through a garment face: that face's point must pass the
+//     edge's outer end by d along the edge's normal; a garment edge through a body face: the
+//     edge's point must pass the face's plane by d), projected by moving its corners together
+//     along its normal. The vertices of a new crossing also step back half way to their last
+//     clean position (up to `bisections` times, then all the way) and rest for `hold_sweeps`
+//     sweeps while their neighbours relax round them.
 // Projected Gauss-Seidel on u: each vertex in turn goes to the weighted mean of its neighbours'
-// displacements, then onto its half-space. The garment is clean after every sweep, so the stage can
-// stop anywhere (sweep limit, step below `tolerance`, time budget) and keep what it has.
+// displacements, then onto its half-space; then the strain limit and the contacts. The garment is
+// clean after every check, so the stage can stop anywhere (sweep limit, step below `tolerance`,
+// time budget) and keep what it has.
 #pragma once
 
 #include "virtual_tryon/core/body/body.h"
@@ -30,20 +35,21 @@
 namespace virtual_tryon {
 
 struct ShapeRelaxationParams {
-  int max_sweeps = 12;
-  double over_relaxation = 1.6;   // successive over-relaxation factor of the sweeps (1: Gauss-Seidel)
-  double mu = 0.02;               // pull back to the input, against a neighbour's weight of 1
-  int rings = 5;                  // rings of unmoved neighbours that may move too
+  int max_sweeps = 18;
+  int sweeps_per_check = 3;        // crossings are checked after every this many sweeps (and at the end)
+  double over_relaxation = 1.8;   // successive over-relaxation factor of the sweeps (1: Gauss-Seidel)
+  double mu = 0.005;              // pull back to the input, against a neighbour's weight of 1
+  int rings = 8;                  // rings of unmoved neighbours that may move too
   double replane_distance = 0.002;  // m: refresh a vertex's body plane after this move
   double tolerance = 1e-5;        // m: stop when no vertex moved more than this in a sweep
   int bisections = 2;
   // m: a sweep checks the faces round the vertices that moved more than this since they were last
   // checked; at the end every moved vertex is checked, so the result is clean whatever this is.
-  double check_distance = 0;
+  double check_distance = 0.0005;
   // After each sweep, edges strained past this (|l / l0 - 1|) are brought back to it (position-
   // based, both ends sharing the correction); 0: off.
-  double strain_limit = 0.2;
-  int hold_sweeps = 2;            // a vertex that stepped back rests for this many sweeps
+  double strain_limit = 0.1;
+  int hold_sweeps = 6;            // a vertex that stepped back rests for this many sweeps
   double time_budget = 0;         // s, 0: none
 };
 
@@ -53,6 +59,7 @@ struct ShapeRelaxationReport {
   std::size_t steps_back = 0;        // vertex steps undone (halved or reverted) to stay clean
   std::size_t plane_queries = 0;     // nearest-body-point queries
   std::size_t detections = 0;        // crossing detections over the moved faces
+  std::size_t contacts = 0;          // crossings found by the checks and kept as contacts
   double last_step = 0;              // m, largest vertex move of the last sweep
   bool clean = true;                 // no crossing was left (always, unless detection failed)
   double seconds = 0;
