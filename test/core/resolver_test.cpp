@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 using namespace virtual_tryon;
 using V3 = Eigen::Vector3d;
 
@@ -55,6 +58,37 @@ TEST(Stencils, IllegalVertexIsTheEndPointBehindTheFace) {
   EXPECT_EQ(rep.iterations, 1);
   EXPECT_NEAR((moved.V.row(0) - Eigen::RowVector3d(0, 0.002, 0)).norm(), 0, 1e-12);
   EXPECT_EQ((moved.V.bottomRows(2) - g.V.bottomRows(2)).norm(), 0.0);
+}
+
+TEST(Detection, SharedOutAmongThreadsFindsWhatOneThreadFinds) {
+  // 4,608 garment faces: the whole detection is shared out among threads (on a machine with more
+  // than one); chunks of 200 faces are each detected by one thread. Same crossings, same order.
+  ResolveScene s = makeWrinkledTubeScene(48, 48);
+  ASSERT_GT(s.garment.F.rows(), 2000);
+  Body b(s.body);
+  const GarmentTopology topo(s.garment);
+  CrossingSet all;
+  detectCrossings(b, s.garment, topo, all);
+  ASSERT_GT(all.size(), 100u);
+  CrossingSet joined;
+  for (int first = 0; first < s.garment.F.rows(); first += 200) {
+    std::vector<int> chunk;
+    for (int f = first; f < std::min<int>(first + 200, static_cast<int>(s.garment.F.rows())); ++f) chunk.push_back(f);
+    CrossingSet part;
+    detectCrossings(b, s.garment, topo, part, &chunk);
+    joined.garment_edges.insert(joined.garment_edges.end(), part.garment_edges.begin(), part.garment_edges.end());
+    joined.body_edges.insert(joined.body_edges.end(), part.body_edges.begin(), part.body_edges.end());
+  }
+  auto key = [](const std::vector<EdgeFaceCrossing>& v) {
+    std::vector<std::array<double, 4>> k;
+    for (const auto& c : v) k.push_back({double(c.edge), double(c.face), c.t, c.s0});
+    std::sort(k.begin(), k.end());
+    k.erase(std::unique(k.begin(), k.end()), k.end());
+    return k;
+  };
+  EXPECT_EQ(key(all.garment_edges), key(joined.garment_edges));
+  EXPECT_EQ(key(all.body_edges), key(joined.body_edges));
+  EXPECT_EQ(key(all.garment_edges).size(), all.garment_edges.size());  // already sorted and unique
 }
 
 TEST(Resolver, SphereWithPatchThroughItsCap) {

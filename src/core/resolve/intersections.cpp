@@ -9,6 +9,7 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <thread>
 #include <tuple>
 
 namespace virtual_tryon {
@@ -104,20 +105,14 @@ void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopolog
 
 }  // namespace
 
-// Candidate pairs are the (body face, garment face) pairs whose bounding boxes overlap, from the
-// body's box tree (built once with the body) and one box query per garment face; every crossing
-// lies in such a pair, and the segment tests decide.
-void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
-                     CrossingSet& out, const std::vector<int>* faces) {
-  out.garment_edges.clear();
-  out.body_edges.clear();
-  if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
-  if (faces && faces->empty()) return;
-  const FaceBoxTree& tree = body.bvh().faceTree(body.mesh());
+namespace {
+
+// The crossings of the garment faces faces[first .. last) (or faces first .. last) with the body.
+void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology& topo, const FaceBoxTree& tree,
+                 const std::vector<int>* faces, int first, int last, CrossingSet& out) {
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
-  const int n = faces ? static_cast<int>(faces->size()) : static_cast<int>(GF.rows());
-  for (int i = 0; i < n; ++i) {
+  for (int i = first; i < last; ++i) {
     const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
     Eigen::Vector3d lo = row(GV, GF(gf, 0)), hi = lo;
     for (int k = 1; k < 3; ++k) {
@@ -127,6 +122,54 @@ void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
     const Eigen::Vector3d x0 = row(GV, GF(gf, 0));
     const Eigen::Vector3d gn = (row(GV, GF(gf, 1)) - x0).cross(row(GV, GF(gf, 2)) - x0);
     tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, out); });
+  }
+}
+
+// Below this many garment faces one thread does the detection (starting a thread costs more than
+// it saves); at most this many threads.
+constexpr int kParallelFaces = 384;
+constexpr unsigned kMaxThreads = 8;
+
+int detectionThreads(int faces) {
+  if (faces < kParallelFaces) return 1;
+  const unsigned hw = std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads));
+  return static_cast<int>(std::min<unsigned>(hw, static_cast<unsigned>(faces / (kParallelFaces / 2))));
+}
+
+}  // namespace
+
+// Candidate pairs are the (body face, garment face) pairs whose bounding boxes overlap, from the
+// body's box tree (built once with the body) and one box query per garment face; every crossing
+// lies in such a pair, and the segment tests decide. Many faces are shared out among threads
+// started for this call (one per hardware thread, at most 8; none outlives the call, so a process
+// may fork at any time), each with its own list; the lists are joined, sorted and made unique, so
+// the result does not depend on the number of threads.
+void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                     CrossingSet& out, const std::vector<int>* faces) {
+  out.garment_edges.clear();
+  out.body_edges.clear();
+  if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
+  if (faces && faces->empty()) return;
+  const FaceBoxTree& tree = body.bvh().faceTree(body.mesh());
+  body.edges();  // the body's adjacency, built before any thread reads it
+  const int n = faces ? static_cast<int>(faces->size()) : static_cast<int>(garment.F.rows());
+  const int threads = detectionThreads(n);
+  if (threads == 1) {
+    detectRange(body, garment, topo, tree, faces, 0, n, out);
+  } else {
+    std::vector<CrossingSet> part(static_cast<std::size_t>(threads));
+    auto range = [&](int t) {
+      detectRange(body, garment, topo, tree, faces, static_cast<int>(static_cast<long long>(n) * t / threads),
+                  static_cast<int>(static_cast<long long>(n) * (t + 1) / threads), part[static_cast<std::size_t>(t)]);
+    };
+    std::vector<std::thread> workers;
+    for (int t = 1; t < threads; ++t) workers.emplace_back(range, t);
+    range(0);
+    for (auto& w : workers) w.join();
+    for (const CrossingSet& c : part) {
+      out.garment_edges.insert(out.garment_edges.end(), c.garment_edges.begin(), c.garment_edges.end());
+      out.body_edges.insert(out.body_edges.end(), c.body_edges.begin(), c.body_edges.end());
+    }
   }
   sortUnique(out.garment_edges);
   sortUnique(out.body_edges);

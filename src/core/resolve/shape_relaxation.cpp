@@ -99,6 +99,8 @@ class ShapeRelaxation {
     plane_normal_.resize(clean_.size());
     plane_at_.resize(clean_.size());
     plane_face_.assign(clean_.size(), -1);
+    exact_distance_.assign(clean_.size(), -1.0);
+    exact_at_.resize(clean_.size());
     floor_.assign(clean_.size(), d_);
     held_.assign(clean_.size(), 0);
   }
@@ -114,6 +116,8 @@ class ShapeRelaxation {
       const ClosestPoint cp = closestPointOnBody(body_, x);
       face = cp.face;
       point = cp.point;
+      exact_distance_[v] = (x - point).norm();
+      exact_at_[v] = x;
     } else {
       point = walkToNearest(x, face);
     }
@@ -330,10 +334,30 @@ class ShapeRelaxation {
           faces_.push_back(graph_.vf[i]);
         }
     for (int f : faces_) face_mark_[f] = 0;
+    faces_.erase(std::remove_if(faces_.begin(), faces_.end(), [&](int f) { return clearOfBody(f); }), faces_.end());
     if (faces_.empty()) return;
     std::sort(faces_.begin(), faces_.end());
     detectCrossings(body_, g_, topo_, found, &faces_);
     ++rep_.detections;
+  }
+
+  // A lower bound on vertex v's distance from the body: its distance at its last exact nearest-
+  // point query less how far it moved since; -1 when unknown.
+  double distanceBound(int v) const {
+    if (!active_flag_[v] || exact_distance_[v] < 0) return -1;
+    return exact_distance_[v] - (g_.V.row(v).transpose() - exact_at_[v]).norm();
+  }
+
+  // True when garment face f cannot touch the body: every corner is farther from it than the
+  // face's longest edge (the distance to the body changes by at most the distance moved, and every
+  // point of the face lies within its longest edge of each corner).
+  bool clearOfBody(int f) const {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (g_.V.row(g_.F(f, k)) - g_.V.row(g_.F(f, (k + 1) % 3))).norm());
+    for (int k = 0; k < 3; ++k)
+      if (!(distanceBound(g_.F(f, k)) > longest)) return false;
+    return true;
   }
 
   struct Contact {
@@ -365,6 +389,8 @@ class ShapeRelaxation {
   std::vector<Eigen::RowVector3d> clean_, start_, checked_;
   std::vector<Eigen::Vector3d> plane_point_, plane_normal_, plane_at_;
   std::vector<int> plane_face_;
+  std::vector<double> exact_distance_;     // per vertex: at its last query through the body's tree
+  std::vector<Eigen::Vector3d> exact_at_;  // and where it was then
   std::vector<int> bvf_start_, bvf_;  // the body's faces round each body vertex
 };
 
