@@ -109,10 +109,12 @@ bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, Pattern& pattern, 
 
 void logDrape(const DrapeResult& report) {
   ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
-           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %s",
+           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %zu boundary loops for "
+           "%zu openings, largest strain %.3f, %s",
            report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
            report.penetrating_before_resolve, report.penetrating_after,
            report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
+           report.boundary_loops, report.openings, report.strain_max,
            report.converged ? "converged" : "NOT converged");
   if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
   for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);

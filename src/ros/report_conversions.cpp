@@ -92,6 +92,8 @@ DrapeReport toMsg(const DrapeResult& r, CollisionMode mode) {
   m.seam_gap_mean = r.seam_gap_mean;
   m.strain_max = r.strain_max;
   m.strain_mean = r.strain_mean;
+  m.boundary_loops = u32(r.boundary_loops);
+  m.openings = u32(r.openings);
   m.max_speed = r.max_speed;
   m.kinetic_energy = r.kinetic_energy;
   m.penetrating_before_resolve = u32(r.penetrating_before_resolve);

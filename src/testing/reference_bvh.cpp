@@ -157,6 +157,7 @@ std::vector<double> ReferenceReferee::signedDistances(const TriMesh& garment) co
 
 ReferenceCounts ReferenceReferee::count(const TriMesh& garment, bool countInside, double eps) const {
   ReferenceCounts r;
+  r.boundary_loops = referenceBoundaryLoops(garment);
   r.garment_edge_crossings = countCrossings(garment, uniqueEdges(garment), body_, tree_, eps);
   const ReferenceTree garmentTree(garment);
   r.body_edge_crossings = countCrossings(body_, body_edges_, garment, garmentTree, eps);

@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
+#include <utility>
 #include <vector>
 
 namespace virtual_tryon {
@@ -60,6 +63,7 @@ std::size_t countEdgeCrossings(const TriMesh& edgesOf, const TriMesh& facesOf, d
 ReferenceCounts referenceCounts(const TriMesh& body, const TriMesh& garment, bool countInside,
                                 double eps) {
   ReferenceCounts r;
+  r.boundary_loops = referenceBoundaryLoops(garment);
   r.garment_edge_crossings = countEdgeCrossings(garment, body, eps);
   r.body_edge_crossings = countEdgeCrossings(body, garment, eps);
   if (!countInside) return r;
@@ -91,12 +95,43 @@ ReferenceCounts referenceCounts(const TriMesh& body, const TriMesh& garment, boo
   return r;
 }
 
+std::size_t referenceBoundaryLoops(const TriMesh& garment) {
+  std::map<std::pair<int, int>, int> uses;
+  for (Eigen::Index f = 0; f < garment.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = garment.F(f, k), b = garment.F(f, (k + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  std::map<int, std::vector<int>> next;  // boundary neighbours of each boundary vertex
+  for (const auto& u : uses)
+    if (u.second == 1) {
+      next[u.first.first].push_back(u.first.second);
+      next[u.first.second].push_back(u.first.first);
+    }
+  std::set<int> seen;
+  std::size_t loops = 0;
+  for (const auto& start : next) {
+    if (seen.count(start.first)) continue;
+    ++loops;
+    std::vector<int> stack{start.first};
+    seen.insert(start.first);
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (int w : next[v])
+        if (seen.insert(w).second) stack.push_back(w);
+    }
+  }
+  return loops;
+}
+
 std::string toJson(const ReferenceCounts& c) {
   return json::Obj()
       .add("garment_edge_crossings", c.garment_edge_crossings)
       .add("body_edge_crossings", c.body_edge_crossings)
       .add("vertices_inside", c.vertices_inside)
       .add("max_depth_m", c.max_depth)
+      .add("boundary_loops", c.boundary_loops)
       .str();
 }
 

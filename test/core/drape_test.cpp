@@ -93,6 +93,39 @@ TEST_P(ProceduralGarment, ConvergesToOneCleanMesh) {
   EXPECT_EQ(c.body_edge_crossings, 0u);
   EXPECT_EQ(c.vertices_inside, 0u);
   EXPECT_EQ(rep.penetrating_after, 0u);
+  // The report's loops are the referee's; the openings are the pattern's (watertight seams, which
+  // would make the two equal, are not built yet: the loops are only reported).
+  EXPECT_EQ(rep.boundary_loops, c.boundary_loops);
+  EXPECT_EQ(rep.openings, static_cast<std::size_t>(patternOpenings(loadPattern(std::string(GetParam()) + ".yaml"))));
+  EXPECT_GE(rep.boundary_loops, rep.openings);
+}
+
+// The openings of every shipped pattern, counted from its seams: the loops a tailor would leave
+// open (waist and hem; waist and two leg ends; neck, waist, two sleeve ends or armholes).
+TEST(Drape, ShippedPatternsHaveTheirGarmentsOpenings) {
+  const std::pair<const char*, int> expected[] = {
+      {"skirt", 2}, {"trousers", 3}, {"tshirt", 4}, {"dress", 4}, {"sleeveless_shirt", 4}};
+  for (const char* set : {"procedural", "hm08"})
+    for (const auto& e : expected) {
+      Pattern p;
+      std::string err;
+      ASSERT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/" + set + "/" +
+                                      e.first + ".yaml",
+                                  p, err))
+          << err;
+      EXPECT_EQ(patternOpenings(p), e.second) << set << "/" << e.first;
+    }
+  // One panel sewn side to side: a tube, open at both ends; the same panel unsewn: one loop.
+  Pattern t;
+  t.panels.push_back(PatternPanel());
+  t.panels[0].outline.resize(4, 2);
+  t.panels[0].outline << 0, 0, 1, 0, 1, 1, 0, 1;
+  EXPECT_EQ(patternOpenings(t), 1);
+  PatternSeam s;
+  s.a = {0, 0, 3};
+  s.b = {0, 1, 2};
+  t.seams.push_back(s);
+  EXPECT_EQ(patternOpenings(t), 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(Drape, ProceduralGarment,

@@ -1,5 +1,6 @@
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/testing/reference_check.h"
 
 #include <gtest/gtest.h>
 
@@ -63,6 +64,33 @@ TEST(Mesh, ProceduralBodiesAreClosedAndOutward) {
   const EdgeTopology open = edgeTopology(makeCylinder(0.2, 0.3, Eigen::Vector3d::Zero(), 20, 4, false));
   EXPECT_EQ(open.boundary_edges, 40u);
   EXPECT_FALSE(open.closed());
+}
+
+TEST(Mesh, BoundaryLoopsOfADiscATubeAndASphere) {
+  const TriMesh disc = makePatch(0.1, 0.1, 8, 8, Eigen::Vector3d::Zero());
+  const TriMesh tube = makeWrinkledTubeScene(16, 8).garment;
+  const TriMesh sphere = makeSphere(0.1, Eigen::Vector3d::Zero(), 2);
+  EXPECT_EQ(boundaryLoops(disc), 1u);
+  EXPECT_EQ(boundaryLoops(tube), 2u);
+  EXPECT_EQ(boundaryLoops(sphere), 0u);
+  EXPECT_EQ(boundaryLoops(concatenate(disc, tube)), 3u);
+  // The referee counts the same by its own walk.
+  for (const TriMesh* m : {&disc, &tube, &sphere}) EXPECT_EQ(referenceBoundaryLoops(*m), boundaryLoops(*m));
+  // A face taken out of the disc's middle opens a second loop.
+  TriMesh holed = disc;
+  Eigen::Index mid = 0;
+  double best = INFINITY;
+  for (Eigen::Index f = 0; f < disc.F.rows(); ++f) {
+    const Eigen::Vector3d c = (disc.V.row(disc.F(f, 0)) + disc.V.row(disc.F(f, 1)) + disc.V.row(disc.F(f, 2))).transpose() / 3;
+    if (c.norm() < best) {
+      best = c.norm();
+      mid = f;
+    }
+  }
+  holed.F.row(mid) = holed.F.row(holed.F.rows() - 1);
+  holed.F.conservativeResize(holed.F.rows() - 1, 3);
+  EXPECT_EQ(boundaryLoops(holed), referenceBoundaryLoops(holed));
+  EXPECT_EQ(boundaryLoops(holed), 2u);
 }
 
 TEST(Mesh, EdgesAndComponents) {

@@ -16,7 +16,13 @@ struct ReferenceCounts {
   std::size_t body_edge_crossings = 0;     // body edges through garment faces
   std::size_t vertices_inside = 0;         // garment vertices inside the (closed) body
   double max_depth = 0;  // deepest inside vertex's distance to the body surface, metres
+  std::size_t boundary_loops = 0;  // of the garment (referenceBoundaryLoops)
 };
+
+// The garment's boundary loops, found apart from the core's boundaryLoops(): every edge used by
+// exactly one face, then the loops walked edge by edge (a depth-first search over the boundary
+// edges that share a vertex). Two holes that share a vertex count as one.
+std::size_t referenceBoundaryLoops(const TriMesh& garment);
 
 // Counts proper crossings (the segment meets the triangle's interior at a parameter strictly
 // between its end-points, up to `eps` relative to the edge length).

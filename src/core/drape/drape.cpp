@@ -131,6 +131,7 @@ class DrapeRun {
     }
     cloth_.emplace(mesh, params_.cloth);
     rep_.seams_total = cloth_->openSeams();
+    rep_.openings = static_cast<std::size_t>(patternOpenings(pattern));
     if (!chooseTimeStep()) return false;
     makeCollider();
     weldTol_ = params_.weld_tolerance > 0 ? params_.weld_tolerance : std::max(0.5 * params_.spacing, 0.015);
@@ -286,6 +287,7 @@ class DrapeRun {
     garment = cloth.mesh();
     rep_.vertices = static_cast<std::size_t>(garment.V.rows());
     rep_.triangles = static_cast<std::size_t>(garment.F.rows());
+    rep_.boundary_loops = boundaryLoops(garment);
   }
 
   // Clean what the collisions let through.

@@ -6,6 +6,7 @@
 #include "core/geometry/polygon2d.h"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <sstream>
 
@@ -79,6 +80,59 @@ std::vector<int> stretchVertices(const Pattern& pattern, const OutlineStretch& s
   walk.reserve(static_cast<std::size_t>(count) + 1);
   for (int k = 0, v = s.from; k <= count; ++k, v = ((v + step) % n + n) % n) walk.push_back(v);
   return walk;
+}
+
+int patternOpenings(const Pattern& pattern) {
+  // Outline vertex (p, i) is id offset[p] + i; outline edge (p, i) runs from vertex i to i + 1.
+  std::vector<int> offset(pattern.panels.size() + 1, 0);
+  for (std::size_t p = 0; p < pattern.panels.size(); ++p)
+    offset[p + 1] = offset[p] + static_cast<int>(pattern.panels[p].outline.rows());
+  std::vector<int> parent(static_cast<std::size_t>(offset.back()));
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  auto join = [&](int a, int b) { parent[find(a)] = find(b); };
+  std::vector<char> sewn(parent.size(), 0);
+  for (const PatternSeam& seam : pattern.seams) {
+    for (const OutlineStretch* st : {&seam.a, &seam.b}) {
+      const std::vector<int> walk = stretchVertices(pattern, *st);
+      const int n = static_cast<int>(pattern.panels[static_cast<std::size_t>(st->panel)].outline.rows());
+      for (std::size_t k = 0; k + 1 < walk.size(); ++k) {
+        const int lo = (walk[k] + 1) % n == walk[k + 1] ? walk[k] : walk[k + 1];
+        sewn[static_cast<std::size_t>(offset[st->panel] + lo)] = 1;
+      }
+    }
+    if (stretchVertices(pattern, seam.a).empty() || stretchVertices(pattern, seam.b).empty()) continue;
+    join(offset[seam.a.panel] + seam.a.from, offset[seam.b.panel] + seam.b.from);
+    join(offset[seam.a.panel] + seam.a.to, offset[seam.b.panel] + seam.b.to);
+  }
+  // The free edges between the joined corners; each connected piece of them is one opening.
+  std::vector<std::pair<int, int>> free;
+  for (std::size_t p = 0; p < pattern.panels.size(); ++p) {
+    const int n = offset[p + 1] - offset[p];
+    for (int i = 0; i < n; ++i)
+      if (!sewn[static_cast<std::size_t>(offset[p] + i)])
+        free.push_back({find(offset[p] + i), find(offset[p] + (i + 1) % n)});
+  }
+  std::vector<int> piece(parent.size());
+  for (std::size_t i = 0; i < piece.size(); ++i) piece[i] = static_cast<int>(i);
+  auto top = [&](int v) {
+    while (piece[v] != v) v = piece[v] = piece[piece[v]];
+    return v;
+  };
+  for (const auto& e : free) piece[top(e.first)] = top(e.second);
+  std::vector<char> counted(parent.size(), 0);
+  int openings = 0;
+  for (const auto& e : free) {
+    const int r = top(e.first);
+    if (!counted[static_cast<std::size_t>(r)]) {
+      counted[static_cast<std::size_t>(r)] = 1;
+      ++openings;
+    }
+  }
+  return openings;
 }
 
 double stretchLength(const Pattern& pattern, const OutlineStretch& s) {

@@ -258,6 +258,33 @@ MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges) {
   return E;
 }
 
+std::size_t boundaryLoops(const TriMesh& mesh) {
+  MatrixX3i faceEdges;
+  const MatrixX2i E = uniqueEdges(mesh, &faceEdges);
+  std::vector<int> uses(static_cast<std::size_t>(E.rows()), 0);
+  for (Eigen::Index f = 0; f < faceEdges.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++uses[static_cast<std::size_t>(faceEdges(f, k))];
+  // Union-find over the vertices of boundary edges; each root that a boundary edge reaches is a loop.
+  std::vector<int> parent(static_cast<std::size_t>(mesh.V.rows()));
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  std::vector<char> onBoundary(parent.size(), 0);
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    if (uses[static_cast<std::size_t>(e)] != 1) continue;
+    const int a = E(e, 0), b = E(e, 1);
+    if (a < 0 || b < 0 || a >= mesh.V.rows() || b >= mesh.V.rows()) continue;
+    onBoundary[a] = onBoundary[b] = 1;
+    parent[find(a)] = find(b);
+  }
+  std::size_t loops = 0;
+  for (std::size_t v = 0; v < parent.size(); ++v)
+    if (onBoundary[v] && find(static_cast<int>(v)) == static_cast<int>(v)) ++loops;
+  return loops;
+}
+
 double meanEdgeLength(const TriMesh& mesh) {
   const MatrixX2i E = uniqueEdges(mesh);
   if (E.rows() == 0) return 0.0;

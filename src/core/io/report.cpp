@@ -91,6 +91,8 @@ std::string toJson(const DrapeResult& r) {
       .add("seam_gap_mean_m", r.seam_gap_mean)
       .add("strain_max", r.strain_max)
       .add("strain_mean", r.strain_mean)
+      .add("boundary_loops", r.boundary_loops)
+      .add("openings", r.openings)
       .add("max_speed_m_per_s", r.max_speed)
       .add("kinetic_energy_j", r.kinetic_energy)
       .add("penetrating_before_resolve", r.penetrating_before_resolve)

@@ -73,6 +73,10 @@ struct DrapeResult {
   int seams_total = 0, seams_open = 0;
   double seam_gap_max = 0, seam_gap_mean = 0;  // of the seams still open, metres
   double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs
+  // Boundary loops of the welded garment, and the openings its pattern has (the loops of unsewn
+  // outline, patternOpenings()): a watertight garment has as many of the one as of the other.
+  // (Reported; not yet part of `converged`.)
+  std::size_t boundary_loops = 0, openings = 0;
   double max_speed = 0, kinetic_energy = 0;    // at the end (instantaneous)
   double net_speed = 0;  // m/s: the last settle test's net rms speed over its window (0: none yet)
   // Garment vertices inside the body mesh (not the maps), before and after the resolver pass.

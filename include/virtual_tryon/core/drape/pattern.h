@@ -95,6 +95,11 @@ double stretchLength(const Pattern& pattern, const OutlineStretch& s);
 // stretch does not name an existing panel and two distinct vertices of its outline.
 std::vector<int> stretchVertices(const Pattern& pattern, const OutlineStretch& s);
 
+// The openings a sewn pattern must have: the loops of outline that no seam sews, once every
+// seam has joined its stretches' ends (a.from to b.from, a.to to b.to). A tube of one panel
+// sewn side to side has 2, a T-shirt (neck, waist, two sleeve ends) 4. For a valid pattern.
+int patternOpenings(const Pattern& pattern);
+
 // Signed area of an outline (shoelace): > 0 when counter-clockwise.
 double outlineSignedArea(const MatrixX2d& outline);
 

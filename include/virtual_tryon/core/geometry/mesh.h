@@ -101,6 +101,11 @@ struct EdgeTopology {
 };
 EdgeTopology edgeTopology(const TriMesh& mesh);
 
+// Boundary loops: the connected pieces of the graph of boundary edges (edges with exactly one
+// incident face). A disc has 1, a tube 2, a closed surface 0; two holes that share a vertex count
+// as one.
+std::size_t boundaryLoops(const TriMesh& mesh);
+
 // Signed volume enclosed by the mesh (positive for a closed, outward-oriented mesh).
 double signedVolume(const TriMesh& mesh);
 
