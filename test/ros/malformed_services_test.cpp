@@ -313,13 +313,15 @@ TEST(MalformedServices, DrapeBadPatternsAndParameters) {
          return r;
        },
        true, "; warning: garment is 1e+06 m away from the body"},
+      // A body in millimetres: the cloth, deep inside a capsule 100 m wide, is thrown out faster
+      // than 50 m/s and the drape fails with that message, after the body's warning.
       {"body in millimetres",
        [&] {
          Drape::Request r = drapeRequest(vt_malformed::scaled(body, 1700 / 0.9), bag());
          r.max_iterations = 300;
          return r;
        },
-       true, "; warning: body is 1700 m long"},
+       false, "; warning: body is 1700 m long"},
   };
   for (const Case& tc : cases) {
     SCOPED_TRACE(tc.name);

@@ -250,7 +250,9 @@ TEST(TryonNode, GarmentInAnotherFrameIsTransformedIntoTheBodyFrame) {
   const Eigen::VectorXd d = (out.V - s.garment.V).rowwise().norm();
   const auto unmoved = static_cast<unsigned>((d.array() < 1e-4).count());
   EXPECT_GE(unmoved + res.report.moved_vertices, static_cast<unsigned>(out.numVertices()));
-  EXPECT_GT(unmoved, 0u);
+  // (The smooth objective moves the whole tube a little.) Every vertex is within the resolver's own
+  // largest move of where it was in the body frame: a wrong transform would put it 0.5 m away.
+  EXPECT_LE(d.maxCoeff(), res.report.max_displacement + 1e-5);
   EXPECT_LT(d.maxCoeff(), 0.03);
   const Eigen::RowVector3d meanOut = out.V.colwise().mean(), meanIn = s.garment.V.colwise().mean();
   EXPECT_LT((meanOut - meanIn).norm(), 2e-3);

@@ -317,12 +317,16 @@ class DrapeRun {
 
   // Converged or not, and the one-line summary.
   void summarize() {
-    rep_.converged = settled_ && rep_.seams_open == 0 && (!rep_.resolver_run || rep_.resolver.converged);
+    const bool watertight = rep_.boundary_loops == rep_.openings;
+    rep_.converged = settled_ && rep_.seams_open == 0 && watertight && (!rep_.resolver_run || rep_.resolver.converged);
     std::ostringstream msg;
     if (rep_.converged)
       msg << "draped: " << rep_.iterations << " iterations (" << rep_.sew_iterations << " sewing), settled";
     else if (!stop_.empty())
       msg << "not converged: " << stop_;
+    else if (rep_.seams_open == 0 && !watertight)
+      msg << "not converged: the garment has " << rep_.boundary_loops << " boundary loops for the pattern's "
+          << rep_.openings << " openings (holes along its seams)";
     else if (rep_.resolver_run && !rep_.resolver.converged)
       msg << "not converged: resolver: " << rep_.resolver.reason;
     else

@@ -2,12 +2,15 @@
 // springs, triangles and seam pairs. The rules are spelled out in pattern.h.
 #include "virtual_tryon/core/drape/pattern.h"
 
+#include "core/drape/boundary_band.h"
+#include "core/drape/outline_nodes.h"
 #include "core/drape/pattern_text.h"
 #include "core/geometry/polygon2d.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -20,7 +23,8 @@ using polygon2d::Vec2;
 
 constexpr double kOnOutline = 1e-9;               // metres: a node this close counts as inside
 constexpr double kMaxGridNodes = 2e7;             // per panel, before clipping
-constexpr double kNearStretch = 0.75;             // * spacing: boundary nodes "near" a stretch
+constexpr double kInnerMargin = 0.5;              // * spacing: grid nodes at least this far inside
+constexpr double kOutlineTolerance = 0.005;       // * spacing: outline nodes' chords this close
 
 using pattern_text::num;
 using pattern_text::panelLabel;
@@ -31,7 +35,7 @@ enum : std::uint8_t { kLinkU = 1, kLinkV = 2 };
 struct PanelGrid {
   int nx = 0, ny = 0;
   double x0 = 0, y0 = 0, h = 0;
-  std::vector<char> kept, onOutline, used;
+  std::vector<char> kept, used;
   std::vector<std::uint8_t> link;
   std::vector<int> node;  // global node index or -1
   bool convex = true;
@@ -67,10 +71,37 @@ void gridSize(const MatrixX2d& P, double h, double& cx, double& cy) {
   cy = std::floor(size.y() / h + 1e-9) + 1;
 }
 
+// Quads that meet others at a corner only (diagonal neighbours with both cells beside them empty)
+// would make the grid's edge touch itself; one of each such pair is dropped, until none is left.
+void removeCornerTouches(PanelGrid& g, std::vector<std::array<int, 4>>& quads) {
+  std::vector<int> cell(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny), -1);
+  for (std::size_t q = 0; q < quads.size(); ++q) cell[static_cast<std::size_t>(quads[q][0])] = static_cast<int>(q);
+  auto has = [&](int i, int j) { return i >= 0 && j >= 0 && i < g.nx && j < g.ny && cell[g.at(i, j)] >= 0; };
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (int j = 0; j + 1 < g.ny; ++j)
+      for (int i = 0; i + 1 < g.nx; ++i) {
+        // The four cells round grid node (i + 1, j + 1).
+        const bool a = has(i, j), b = has(i + 1, j), c = has(i, j + 1), d = has(i + 1, j + 1);
+        if ((a && d && !b && !c) || (b && c && !a && !d)) {
+          cell[g.at(a ? i : i + 1, j)] = -1;
+          changed = true;
+        }
+      }
+  }
+  std::vector<std::array<int, 4>> keep;
+  for (const auto& q : quads)
+    if (cell[static_cast<std::size_t>(q[0])] >= 0) keep.push_back(q);
+  quads.swap(keep);
+  std::fill(g.used.begin(), g.used.end(), 0);
+  for (const auto& q : quads)
+    for (int c : q) g.used[static_cast<std::size_t>(c)] = 1;
+}
+
 // Grid nodes, links, quads of one panel (indices local to the grid). meshPattern has checked the
 // grid's size (gridSize) before any grid is built.
-bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads,
-               std::string& error) {
+void buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vector<std::array<int, 4>>& quads) {
   const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(p)].outline;
   g.outline = &P;
   g.h = h;
@@ -83,7 +114,6 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
   g.convex = polygon2d::isConvex(P);
   const std::size_t count = static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny);
   g.kept.assign(count, 0);
-  g.onOutline.assign(count, 0);
   g.used.assign(count, 0);
   g.link.assign(count, 0);
   g.node.assign(count, -1);
@@ -92,12 +122,7 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
     for (int i = 0; i < g.nx; ++i) {
       const Vec2 q = g.uv(i, j);
       const std::size_t k = static_cast<std::size_t>(g.at(i, j));
-      if (polygon2d::distanceToOutline(q, P) <= kOnOutline) {
-        g.onOutline[k] = 1;
-        g.kept[k] = 1;
-      } else {
-        g.kept[k] = polygon2d::strictlyInside(q, P);
-      }
+      g.kept[k] = polygon2d::strictlyInside(q, P) && polygon2d::distanceToOutline(q, P) >= kInnerMargin * h;
     }
   auto kept = [&](int i, int j) { return g.kept[static_cast<std::size_t>(g.at(i, j))] != 0; };
   for (int j = 0; j < g.ny; ++j)
@@ -115,55 +140,7 @@ bool buildGrid(const Pattern& pattern, int p, double h, PanelGrid& g, std::vecto
       quads.push_back({g.at(i, j), g.at(i + 1, j), g.at(i + 1, j + 1), g.at(i, j + 1)});
       for (int c : quads.back()) g.used[static_cast<std::size_t>(c)] = 1;
     }
-  if (quads.empty()) {
-    error = panelLabel(pattern, p) + ": no grid quad fits at spacing " + num(h) + " m (outline bounding box " +
-            num(size.x()) + " x " + num(size.y()) + " m)";
-    return false;
-  }
-  return true;
-}
-
-// Distance from p along the unit axis direction d to the first outline edge it meets, or
-// infinity.
-double rayToOutline(const Vec2& p, const Vec2& d, const MatrixX2d& P) {
-  double best = INFINITY;
-  const Eigen::Index n = P.rows();
-  for (Eigen::Index e = 0; e < n; ++e) {
-    const Vec2 a = polygon2d::point(P, e), b = polygon2d::point(P, (e + 1) % n);
-    const Vec2 ab = b - a;
-    const double den = polygon2d::cross(d, ab);
-    if (std::abs(den) < 1e-15) continue;  // parallel: a neighbouring edge meets the ray instead
-    const double t = polygon2d::cross(a - p, ab) / den;   // along the ray
-    const double s = polygon2d::cross(a - p, d) / den;    // along the edge
-    if (t > 0 && s >= -1e-12 && s <= 1 + 1e-12) best = std::min(best, t);
-  }
-  return best;
-}
-
-// Where a node goes in the flat panel: its grid point, moved out onto the outline along each
-// grid axis on which it has no neighbour, when the outline lies less than two spacings away that
-// way (a boundary node then sits on the cut edge instead of up to two spacings inside it).
-Vec2 snappedUv(const PanelGrid& g, int i, int j) {
-  Vec2 uv = g.uv(i, j);
-  if (g.onOutline[static_cast<std::size_t>(g.at(i, j))]) return uv;
-  const bool left = g.isUsed(i - 1, j) && g.linked(i - 1, j, kLinkU),
-             right = g.isUsed(i + 1, j) && g.linked(i, j, kLinkU);
-  const bool down = g.isUsed(i, j - 1) && g.linked(i, j - 1, kLinkV),
-             up = g.isUsed(i, j + 1) && g.linked(i, j, kLinkV);
-  auto push = [&](bool missing, const Vec2& d) -> Vec2 {
-    if (!missing) return Vec2::Zero();
-    const double t = rayToOutline(uv, d, *g.outline);
-    // Under two spacings: the missing neighbour may be a kept node dropped for want of a quad.
-    return t < 2 * g.h ? Vec2(t * d) : Vec2::Zero();
-  };
-  const Vec2 du = push(left != right, Vec2(left ? 1.0 : -1.0, 0.0));
-  const Vec2 dv = push(down != up, Vec2(0.0, down ? 1.0 : -1.0));
-  // A corner node moved both ways can land outside a slanted edge: then it moves one way only
-  // (the longer move that stays inside), or stays.
-  for (const Vec2& c : {Vec2(uv + du + dv), Vec2(uv + (du.norm() >= dv.norm() ? du : dv)),
-                        Vec2(uv + (du.norm() >= dv.norm() ? dv : du))})
-    if (polygon2d::insideOrOn(c, *g.outline, kOnOutline)) return c;
-  return uv;
+  removeCornerTouches(g, quads);
 }
 
 using LocalQuads = std::vector<std::array<int, 4>>;  // one panel's quads, grid-local indices
@@ -204,7 +181,7 @@ bool buildGrids(const Pattern& pattern, double spacing, const MeshLimits& limits
   total = 0;
   for (int p = 0; p < np; ++p) {
     PanelGrid& g = grids[static_cast<std::size_t>(p)];
-    if (!buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)], error)) return false;
+    buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)]);
     for (std::size_t k = 0; k < g.used.size(); ++k)
       if (g.used[k]) g.node[k] = total++;
   }
@@ -218,7 +195,8 @@ bool buildGrids(const Pattern& pattern, double spacing, const MeshLimits& limits
 }
 
 // The cloth's arrays sized for `total` nodes and the quads of all panels.
-void allocateCloth(double spacing, int total, const std::vector<LocalQuads>& localQuads, ClothMesh& cloth) {
+void allocateCloth(double spacing, int total, const std::vector<LocalQuads>& localQuads, std::size_t bandTriangles,
+                   ClothMesh& cloth) {
   cloth.spacing = spacing;
   cloth.X.resize(total, 3);
   cloth.UV.resize(total, 2);
@@ -226,27 +204,21 @@ void allocateCloth(double spacing, int total, const std::vector<LocalQuads>& loc
   std::size_t quadCount = 0;
   for (const auto& q : localQuads) quadCount += q.size();
   cloth.quads.reserve(quadCount);
-  // <= 2 + 2 + 2 per node
-  cloth.springs.reserve(static_cast<std::size_t>(6) * static_cast<std::size_t>(total));
-  cloth.F.resize(static_cast<Eigen::Index>(2 * quadCount), 3);
+  // <= 2 + 2 + 2 per grid node, and a few per band node
+  cloth.springs.reserve(static_cast<std::size_t>(8) * static_cast<std::size_t>(total));
+  cloth.F.resize(static_cast<Eigen::Index>(2 * quadCount + bandTriangles), 3);
 }
 
-// The nodes of panel p: flat (snapped) and placed positions; its boundary nodes (a grid axis
-// without a linked neighbour, or on the outline) go to `boundary`.
-void placeNodes(const PanelGrid& g, int p, const PanelPlacement& placement, ClothMesh& cloth,
-                std::vector<int>& boundary) {
+// The grid nodes of panel p: flat and placed positions.
+void placeGridNodes(const PanelGrid& g, int p, const PanelPlacement& placement, ClothMesh& cloth) {
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) {
       const int n = g.id(i, j);
       if (n < 0) continue;
-      const Vec2 uv = snappedUv(g, i, j);
+      const Vec2 uv = g.uv(i, j);
       cloth.UV.row(n) = uv.transpose();
       cloth.X.row(n) = placement.place(uv).transpose();
       cloth.panel[static_cast<std::size_t>(n)] = p;
-      const bool inner = g.isUsed(i - 1, j) && g.linked(i - 1, j, kLinkU) && g.isUsed(i + 1, j) &&
-                         g.linked(i, j, kLinkU) && g.isUsed(i, j - 1) && g.linked(i, j - 1, kLinkV) &&
-                         g.isUsed(i, j + 1) && g.linked(i, j, kLinkV);
-      if (!inner || g.onOutline[static_cast<std::size_t>(g.at(i, j))]) boundary.push_back(n);
     }
 }
 
@@ -303,107 +275,110 @@ void addGridSprings(const PanelGrid& g, ClothMesh& cloth) {
     }
 }
 
-// How many of the boundary nodes `cand` lie near the stretch polyline `pl`.
-int nodesNearStretch(const std::vector<Vec2>& pl, const std::vector<int>& cand, const MatrixX2d& UV,
-                     double spacing) {
-  // Near: within 0.75 spacing, or within one spacing alongside the stretch (its closest point
-  // not one of the stretch's ends). The second part catches the boundary nodes of a grid that
-  // is not aligned with a slanted stretch: a boundary node's missing neighbour lies across the
-  // outline, so such a node can be up to one spacing away.
-  int near = 0;
-  for (int n : cand) {
-    const Vec2 uv = UV.row(n).transpose();
-    double d = INFINITY;
-    bool atEnd = false;
-    for (std::size_t e = 0; e + 1 < pl.size(); ++e) {
-      const Vec2 ab = pl[e + 1] - pl[e];
-      const double t = std::clamp((uv - pl[e]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      const double de = (uv - (pl[e] + t * ab)).norm();
-      if (de < d) {
-        d = de;
-        atEnd = (e == 0 && t <= 0) || (e + 2 == pl.size() && t >= 1);
-      }
+// The edge loops of a panel's grid region (its quads), as grid-local node indices, each
+// counter-clockwise round the region (a hole in the region: clockwise).
+std::vector<std::vector<int>> gridEdgeLoops(const LocalQuads& quads) {
+  std::map<int, int> next;
+  std::set<std::pair<int, int>> half;
+  for (const auto& q : quads)
+    for (int k = 0; k < 4; ++k) half.insert({q[k], q[(k + 1) % 4]});
+  for (const auto& h : half)
+    if (!half.count({h.second, h.first})) next[h.first] = h.second;
+  std::vector<std::vector<int>> loops;
+  std::set<int> seen;
+  for (const auto& start : next) {
+    if (seen.count(start.first)) continue;
+    std::vector<int> loop;
+    int v = start.first;
+    while (!seen.count(v) && next.count(v)) {
+      seen.insert(v);
+      loop.push_back(v);
+      v = next[v];
     }
-    if (d <= kNearStretch * spacing || (d <= spacing * (1 + 1e-9) && !atEnd)) ++near;
+    if (loop.size() >= 3) loops.push_back(loop);
   }
-  return near;
+  return loops;
 }
 
-// `samples` points evenly spaced by arc length along `pl`, each mapped to its nearest node of
-// `cand`.
-std::vector<int> sampleStretch(const std::vector<Vec2>& pl, const std::vector<int>& cand, int samples,
-                               const MatrixX2d& UV) {
-  std::vector<int> mapped;
-  std::vector<double> cum(pl.size(), 0.0);
-  for (std::size_t e = 1; e < pl.size(); ++e) cum[e] = cum[e - 1] + (pl[e] - pl[e - 1]).norm();
-  std::size_t e = 0;
-  for (int s = 0; s < samples; ++s) {
-    const double t = cum.back() * s / (samples - 1);
-    while (e + 2 < pl.size() && cum[e + 1] < t) ++e;
-    const double segLen = cum[e + 1] - cum[e];
-    const double f = segLen > 0 ? std::clamp((t - cum[e]) / segLen, 0.0, 1.0) : 0.0;
-    const Vec2 q = pl[e] + f * (pl[e + 1] - pl[e]);
-    int best = -1;
-    double bestD = INFINITY;
-    for (int n : cand) {
-      const double d = (UV.row(n).transpose() - q).squaredNorm();
-      if (d < bestD) {
-        bestD = d;
-        best = n;
-      }
-    }
-    mapped.push_back(best);
-  }
-  return mapped;
+double loopArea(const std::vector<Vec2>& pts, const std::vector<int>& loop) {
+  double a = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) a += polygon2d::cross(pts[loop[i]], pts[loop[(i + 1) % loop.size()]]);
+  return 0.5 * a;
 }
 
-// The node pairs of seam k: both stretches sampled at as many points as the more crowded side has
-// boundary nodes near it, matched sample by sample. False (with `error`) when fewer than two
-// distinct pairs come out.
-bool addSeam(const Pattern& pattern, std::size_t k, double spacing,
-             const std::vector<std::vector<int>>& boundary, ClothMesh& cloth, std::string& error) {
-  const PatternSeam& seam = pattern.seams[k];
-  std::vector<Vec2> poly[2];
-  int near[2] = {0, 0};
-  const OutlineStretch* st[2] = {&seam.a, &seam.b};
-  for (int side = 0; side < 2; ++side) {
-    const MatrixX2d& P = pattern.panels[static_cast<std::size_t>(st[side]->panel)].outline;
-    for (int v : stretchVertices(pattern, *st[side])) poly[side].push_back(polygon2d::point(P, v));
-    near[side] = nodesNearStretch(poly[side], boundary[static_cast<std::size_t>(st[side]->panel)], cloth.UV,
-                                  spacing);
+// One panel's band: the triangles between its outline loop (global nodes loopBase ..
+// loopBase + loop size - 1) and its grid's edge, as global node indices, counter-clockwise in uv.
+bool bandTriangles(const Pattern& pattern, int p, const PanelGrid& g, const LocalQuads& quads,
+                   const std::vector<Vec2>& loopUv, int loopBase, std::vector<std::array<int, 3>>& out,
+                   std::string& error) {
+  std::vector<Vec2> pts(loopUv);
+  std::vector<int> global;
+  for (std::size_t i = 0; i < loopUv.size(); ++i) global.push_back(loopBase + static_cast<int>(i));
+  std::map<int, int> local;  // grid cell index -> point index
+  auto pointOf = [&](int cell) {
+    auto it = local.find(cell);
+    if (it != local.end()) return it->second;
+    const int id = static_cast<int>(pts.size());
+    pts.push_back(g.uv(cell % g.nx, cell / g.nx));
+    global.push_back(g.node[static_cast<std::size_t>(cell)]);
+    local[cell] = id;
+    return id;
+  };
+  std::vector<std::vector<int>> outer(1), islands;
+  for (std::size_t i = 0; i < loopUv.size(); ++i) outer[0].push_back(static_cast<int>(i));
+  for (const auto& loop : gridEdgeLoops(quads)) {
+    std::vector<int> l;
+    for (int c : loop) l.push_back(pointOf(c));
+    if (loopArea(pts, l) > 0) {
+      std::reverse(l.begin(), l.end());  // the region's edge is a hole of the band
+      outer.push_back(l);
+    } else {
+      std::reverse(l.begin(), l.end());  // a hole of the region is a piece of band of its own
+      islands.push_back({l});
+    }
   }
-  const int samples = std::max(near[0], near[1]);
-  std::vector<int> mapped[2];
-  for (int side = 0; side < 2 && samples >= 2; ++side)
-    mapped[side] = sampleStretch(poly[side], boundary[static_cast<std::size_t>(st[side]->panel)], samples,
-                                 cloth.UV);
-  std::set<std::pair<int, int>> seen;
-  std::size_t before = cloth.seam_pairs.size();
-  for (std::size_t s = 0; s < mapped[0].size(); ++s) {
-    const int a = mapped[0][s], b = mapped[1][s];
-    if (a == b || !seen.insert({a, b}).second) continue;
-    SeamPair sp;
-    sp.a = a;
-    sp.b = b;
-    sp.seam = static_cast<int>(k);
-    cloth.seam_pairs.push_back(sp);
-  }
-  cloth.seam_stage.push_back(pattern.seams[k].stage);
-  const std::size_t made = cloth.seam_pairs.size() - before;
-  if (made < 2) {
-    error = "seam " + std::to_string(k) + ": only " + std::to_string(made) + " distinct node pair" +
-            (made == 1 ? "" : "s") + " at spacing " + num(spacing) + " m (boundary nodes within " +
-            num(kNearStretch) + " * spacing: " + std::to_string(near[0]) + " of " +
-            panelLabel(pattern, seam.a.panel) + " near a, " + std::to_string(near[1]) + " of " +
-            panelLabel(pattern, seam.b.panel) + " near b); a seam needs at least 2, use a finer spacing";
-    return false;
+  std::vector<std::vector<std::vector<int>>> polygons{outer};
+  for (const auto& l : islands) polygons.push_back({l});
+  for (const auto& poly : polygons) {
+    std::vector<std::array<int, 3>> tris;
+    if (!boundary_band::triangulateBand(pts, poly, tris)) {
+      error = panelLabel(pattern, p) + ": its boundary band cannot be triangulated at spacing " + num(g.h) +
+              " m (outline loop of " + std::to_string(loopUv.size()) + " nodes)";
+      return false;
+    }
+    for (const auto& t : tris) out.push_back({global[t[0]], global[t[1]], global[t[2]]});
   }
   return true;
 }
 
+// Springs along every band edge that is not a grid spring yet (structural), and across every
+// edge between two band triangles (flexion, between the two opposite corners).
+void addBandSprings(const std::vector<std::array<int, 3>>& tris, ClothMesh& cloth) {
+  auto key = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  std::set<std::pair<int, int>> have;
+  for (const Spring& s : cloth.springs) have.insert(key(s.a, s.b));
+  std::map<std::pair<int, int>, std::vector<int>> opposite;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const auto e = key(t[k], t[(k + 1) % 3]);
+      opposite[e].push_back(t[(k + 2) % 3]);
+      if (have.insert(e).second) addSpring(cloth, e.first, e.second, SpringType::Structural);
+    }
+  // Flexion only where the two triangles make a convex quad: then the spring stays on the cloth
+  // (across a notch it would not).
+  auto uvOf = [&](int n) { return Vec2(cloth.UV(n, 0), cloth.UV(n, 1)); };
+  for (const auto& e : opposite) {
+    if (e.second.size() != 2) continue;
+    const Vec2 a = uvOf(e.first.first), b = uvOf(e.first.second), c = uvOf(e.second[0]), d = uvOf(e.second[1]);
+    const bool convex = polygon2d::orient(c, d, a) * polygon2d::orient(c, d, b) < 0 &&
+                        polygon2d::orient(a, b, c) * polygon2d::orient(a, b, d) < 0;
+    if (convex && have.insert(key(e.second[0], e.second[1])).second)
+      addSpring(cloth, e.second[0], e.second[1], SpringType::Flexion);
+  }
+}
 }  // namespace
 
-bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::string& error,
+bool meshPattern(const Pattern& input, double spacing, ClothMesh& cloth, std::string& error,
                  const MeshLimits& limits) {
   cloth = ClothMesh();
   error.clear();
@@ -411,31 +386,66 @@ bool meshPattern(const Pattern& pattern, double spacing, ClothMesh& cloth, std::
     error = "grid spacing must be a finite number > 0, got " + num(spacing);
     return false;
   }
-  error = validatePattern(pattern);
+  error = validatePattern(input);
   if (!error.empty()) return false;
+  Pattern pattern = input;  // outlines counter-clockwise (the outline loops run that way)
+  normalizePattern(pattern);
   if (!checkGridSizes(pattern, spacing, limits, error)) return false;
 
   std::vector<PanelGrid> grids;
   std::vector<LocalQuads> localQuads;
-  int total = 0;
-  if (!buildGrids(pattern, spacing, limits, grids, localQuads, total, error)) return false;
-  allocateCloth(spacing, total, localQuads, cloth);
-
-  // Boundary nodes per panel (global indices).
+  int gridNodes = 0;
+  if (!buildGrids(pattern, spacing, limits, grids, localQuads, gridNodes, error)) return false;
+  outline_nodes::OutlineSampling outline;
+  if (!outline_nodes::sampleOutlines(pattern, spacing, kOutlineTolerance * spacing, outline, error)) return false;
   const std::size_t np = pattern.panels.size();
-  std::vector<std::vector<int>> boundary(np);
+  std::vector<int> loopBase(np + 1, gridNodes);
+  for (std::size_t p = 0; p < np; ++p) loopBase[p + 1] = loopBase[p] + static_cast<int>(outline.loops[p].uv.size());
+  const int total = loopBase[np];
+  if (static_cast<std::size_t>(total) > limits.max_vertices) {
+    error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
+            " nodes, over the limit of " + std::to_string(limits.max_vertices) +
+            " vertices (MeshLimits::max_vertices); use a coarser spacing";
+    return false;
+  }
+  std::vector<std::vector<std::array<int, 3>>> band(np);
+  std::size_t bandCount = 0;
+  for (std::size_t p = 0; p < np; ++p) {
+    if (!bandTriangles(pattern, static_cast<int>(p), grids[p], localQuads[p], outline.loops[p].uv, loopBase[p],
+                       band[p], error))
+      return false;
+    bandCount += band[p].size();
+  }
+  allocateCloth(spacing, total, localQuads, bandCount, cloth);
+
   for (std::size_t p = 0; p < np; ++p) {
     const PanelGrid& g = grids[p];
-    placeNodes(g, static_cast<int>(p), pattern.panels[p].placement, cloth, boundary[p]);
+    placeGridNodes(g, static_cast<int>(p), pattern.panels[p].placement, cloth);
+    for (std::size_t i = 0; i < outline.loops[p].uv.size(); ++i) {
+      const int n = loopBase[p] + static_cast<int>(i);
+      cloth.UV.row(n) = outline.loops[p].uv[i].transpose();
+      cloth.X.row(n) = pattern.panels[p].placement.place(outline.loops[p].uv[i]).transpose();
+      cloth.panel[static_cast<std::size_t>(n)] = static_cast<int>(p);
+    }
     addQuads(g, localQuads[p], cloth);
     addGridSprings(g, cloth);
   }
-
-  for (std::size_t k = 0; k < pattern.seams.size(); ++k)
-    if (!addSeam(pattern, k, spacing, boundary, cloth, error)) {
-      cloth = ClothMesh();
-      return false;
+  Eigen::Index row = static_cast<Eigen::Index>(2 * cloth.quads.size());
+  for (std::size_t p = 0; p < np; ++p) {
+    for (const auto& t : band[p]) cloth.F.row(row++) << t[0], t[1], t[2];
+    addBandSprings(band[p], cloth);
+  }
+  for (std::size_t k = 0; k < pattern.seams.size(); ++k) {
+    const PatternSeam& seam = pattern.seams[k];
+    for (const auto& pr : outline.seam_pairs[k]) {
+      SeamPair sp;
+      sp.a = loopBase[seam.a.panel] + pr.first;
+      sp.b = loopBase[seam.b.panel] + pr.second;
+      sp.seam = static_cast<int>(k);
+      if (sp.a != sp.b) cloth.seam_pairs.push_back(sp);
     }
+    cloth.seam_stage.push_back(seam.stage);
+  }
   return true;
 }
 

@@ -56,7 +56,7 @@ using DrapeProgressCallback = std::function<bool(const DrapeProgress&)>;
 
 struct DrapeResult {
   bool success = false;    // false: bad input or the integration blew up (see message)
-  bool converged = false;  // seams welded, cloth settled, and (if run) the resolver converged
+  bool converged = false;  // seams welded, watertight, cloth settled, and (if run) the resolver converged
   bool cancelled = false;
   std::string message;     // the error, or a one-line summary
   std::vector<std::string> warnings;
@@ -74,8 +74,8 @@ struct DrapeResult {
   double seam_gap_max = 0, seam_gap_mean = 0;  // of the seams still open, metres
   double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs
   // Boundary loops of the welded garment, and the openings its pattern has (the loops of unsewn
-  // outline, patternOpenings()): a watertight garment has as many of the one as of the other.
-  // (Reported; not yet part of `converged`.)
+  // outline, patternOpenings()): a watertight garment has as many of the one as of the other, and
+  // a converged drape must be watertight.
   std::size_t boundary_loops = 0, openings = 0;
   double max_speed = 0, kinetic_energy = 0;    // at the end (instantaneous)
   double net_speed = 0;  // m/s: the last settle test's net rms speed over its window (0: none yet)

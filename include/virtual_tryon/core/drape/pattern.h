@@ -1,6 +1,7 @@
 // Garment patterns (Vassilev et al. 2001, sec. 1): panels cut from cloth, placed around the body,
 // and seams that sew stretches of panel outlines together. Meshing turns the panels into regular
-// grids of mass points (the paper's rectangular topology) with triangles for output.
+// grids of mass points (the paper's rectangular topology) inside, with a band of triangles that
+// follows the outline, and triangles for output.
 #pragma once
 
 #include "virtual_tryon/core/geometry/mesh.h"
@@ -122,7 +123,7 @@ struct ClothMesh {
   MatrixX3d X;                           // #N by 3 placed start positions
   MatrixX2d UV;                          // #N by 2 positions in the flat panel
   std::vector<int> panel;                // #N panel index per node
-  MatrixX3i F;                           // #T by 3 triangles (two per grid quad), for output
+  MatrixX3i F;                           // #T by 3 triangles: two per grid quad, then the band's
   std::vector<std::array<int, 4>> quads; // grid quads (corners in order round the quad)
   std::vector<Spring> springs;           // structural, shear and flexion
   std::vector<SeamPair> seam_pairs;
@@ -130,36 +131,33 @@ struct ClothMesh {
   double spacing = 0;                    // grid spacing used, metres
 };
 
-// Meshes every panel into a regular grid of `spacing` (metres) clipped to its outline: grid
-// nodes inside the outline are kept, quads whose four corners are kept become two triangles, and
-// springs join kept nodes: structural (1 apart in i or j), shear (diagonals), flexion (2 apart).
-// PatternSeam stretches are sampled into pairs of boundary nodes, one pair per node of the stretch that
-// has more. Returns false with `error` when the pattern is invalid or a panel holds no quad at
-// that spacing.
+// Meshes every panel into the paper's regular grid of `spacing` (metres) inside, and a band of
+// triangles along its outline whose outer edge is a loop of nodes on the outline itself; seams pair
+// those outline nodes one to one. Returns false with `error` when the pattern is invalid, over the
+// limits, or a band cannot be triangulated.
 //
-// Details. Per panel the grid has floor(width / spacing) + 1 by floor(height / spacing) + 1 nodes
-// and is centred on the outline's bounding box (so a rectangle whose sides are multiples of the
-// spacing gets nodes on its whole boundary). A node is kept when inside the outline or within
-// 1e-9 m of it. A kept node that lacks its neighbour on one side along a grid axis (and is not
-// on the outline) is moved out along that axis onto the outline when it lies less than two
-// spacings away (a corner node both ways, or only one way when both would leave the outline), so
-// the meshed panel is as wide and as tall as its pattern at any spacing (without it a coarse grid
-// loses up to two spacings at every slanted edge, a kept node in no quad being dropped:
-// body_hm08's trousers at 3.7 cm lost 10-27% of their waist). UV holds the moved positions; links, quads and springs are decided on the grid. Two grid neighbours are linked only when the segment between them stays inside
-// the outline (so a notch or dart narrower than the spacing is not bridged); a quad needs its four
-// corners kept and its four sides linked. Kept nodes in no quad are dropped. Quads are
-// (i,j), (i+1,j), (i+1,j+1), (i,j+1) (counter-clockwise in uv), triangles (c0,c1,c2), (c0,c2,c3),
-// so after placement their normals point along the pose's +z, outward for a wrap. Springs (no
-// duplicates) join linked nodes: structural i/j +-1, shear both diagonals whose ends are kept,
-// flexion i/j +-2 with the middle node kept and both halves linked; rest lengths from UV.
-// Nodes are numbered panel by panel (panel 0 first), row by row (v, then u) within a panel.
-// Boundary nodes: nodes with a 4-neighbour missing (or not linked) or lying on the outline.
-// Seams: N = the larger number of boundary nodes near either stretch (within 0.75 * spacing of
-// its polyline, or within one spacing with the closest point not at one of its ends: next to a
-// slanted stretch a boundary node can be up to a spacing away); each
-// stretch polyline is sampled at N points evenly by arc length (from `from` to `to`), sample k of
-// a pairs with sample k of b, each mapped to the nearest boundary node of its panel; exact
-// duplicate pairs and pairs of one node are dropped. A seam left with < 2 pairs is an error.
+// Details. The pattern is normalised first (normalizePattern). Per panel the grid has
+// floor(width / spacing) + 1 by floor(height / spacing) + 1 nodes centred on the outline's bounding
+// box; a grid node is kept when it lies inside the outline at least half a spacing from it. Two
+// grid neighbours are linked only when the segment between them stays inside the outline (a notch
+// narrower than the spacing is not bridged); a quad needs its four corners kept and its four sides
+// linked; quads that would touch others at a corner only are dropped (one of each pair); kept nodes
+// in no quad are dropped. Quads are (i,j), (i+1,j), (i+1,j+1), (i,j+1), counter-clockwise in uv,
+// two triangles each (c0,c1,c2), (c0,c2,c3). Grid springs: structural i/j +-1 (linked), shear both
+// diagonals, flexion i/j +-2 with the middle node kept and both halves linked.
+// Outline nodes (outline_nodes.h): every seam places as many nodes on its two stretches, at the
+// same arc-length fractions (a.from with b.from, a.to with b.to): the fractions each side needs
+// for its chords to stay within 0.5% of the spacing of its outline (Douglas-Peucker), merged where
+// closer than 0.3 spacing, with points added evenly into gaps longer than the spacing along the
+// longer side. The rest of the outline gets nodes the same way on its own; stretch ends are shared
+// nodes. The band between the outline loop and the grid's edge is triangulated by ear clipping
+// over bridged holes and made constrained-Delaunay by edge flips (boundary_band.h); band springs:
+// structural along every band edge that is not a grid spring, flexion across every band edge whose
+// two triangles make a convex quad. Rest lengths from UV; no spring twice.
+// Nodes: the grid nodes panel by panel (row by row within a panel), then the outline nodes panel by
+// panel, counter-clockwise from the panel's first stretch end (or outline point 0). Triangles: the
+// quads' first, then the band's, all counter-clockwise in uv (normals along the pose's +z, outward
+// for a wrap). Seam pairs: node k of side a with node k of side b (pairs of one node dropped).
 // Size: the grids of all panels together (before clipping to the outlines) may hold at most
 // 4 x limits.max_vertices nodes, and the cloth at most limits.max_vertices nodes; both are checked
 // before the grids are allocated (the first) or the cloth is (the second).
