@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <unordered_set>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -38,6 +39,7 @@ struct PanelGrid {
   std::vector<char> kept, used;
   std::vector<std::uint8_t> link;
   std::vector<int> node;  // global node index or -1
+  int firstNode = 0, nodeCount = 0;  // the panel's grid nodes: global firstNode .. + nodeCount
   bool convex = true;
   const MatrixX2d* outline = nullptr;
 
@@ -182,8 +184,10 @@ bool buildGrids(const Pattern& pattern, double spacing, const MeshLimits& limits
   for (int p = 0; p < np; ++p) {
     PanelGrid& g = grids[static_cast<std::size_t>(p)];
     buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)]);
+    g.firstNode = total;
     for (std::size_t k = 0; k < g.used.size(); ++k)
       if (g.used[k]) g.node[k] = total++;
+    g.nodeCount = total - g.firstNode;
   }
   if (static_cast<std::size_t>(total) > limits.max_vertices) {
     error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
@@ -278,14 +282,17 @@ void addGridSprings(const PanelGrid& g, ClothMesh& cloth) {
 // The edge loops of a panel's grid region (its quads), as grid-local node indices, each
 // counter-clockwise round the region (a hole in the region: clockwise).
 std::vector<std::vector<int>> gridEdgeLoops(const LocalQuads& quads) {
-  std::map<int, int> next;
-  std::set<std::pair<int, int>> half;
+  auto key = [](int a, int b) { return (static_cast<long long>(a) << 32) | static_cast<unsigned>(b); };
+  std::unordered_set<long long> half;
+  half.reserve(4 * quads.size());
   for (const auto& q : quads)
-    for (int k = 0; k < 4; ++k) half.insert({q[k], q[(k + 1) % 4]});
-  for (const auto& h : half)
-    if (!half.count({h.second, h.first})) next[h.first] = h.second;
+    for (int k = 0; k < 4; ++k) half.insert(key(q[k], q[(k + 1) % 4]));
+  std::map<int, int> next;  // ordered: the loops come out in the same order every time
+  for (const auto& q : quads)
+    for (int k = 0; k < 4; ++k)
+      if (!half.count(key(q[(k + 1) % 4], q[k]))) next[q[k]] = q[(k + 1) % 4];
   std::vector<std::vector<int>> loops;
-  std::set<int> seen;
+  std::unordered_set<int> seen;
   for (const auto& start : next) {
     if (seen.count(start.first)) continue;
     std::vector<int> loop;
@@ -355,8 +362,13 @@ bool bandTriangles(const Pattern& pattern, int p, const PanelGrid& g, const Loca
 // edge between two band triangles (flexion, between the two opposite corners).
 void addBandSprings(const std::vector<std::array<int, 3>>& tris, ClothMesh& cloth) {
   auto key = [](int a, int b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  // The springs already there between band nodes (grid springs along the grid's edge).
+  std::vector<char> inBand(static_cast<std::size_t>(cloth.X.rows()), 0);
+  for (const auto& t : tris)
+    for (int v : t) inBand[static_cast<std::size_t>(v)] = 1;
   std::set<std::pair<int, int>> have;
-  for (const Spring& s : cloth.springs) have.insert(key(s.a, s.b));
+  for (const Spring& s : cloth.springs)
+    if (inBand[static_cast<std::size_t>(s.a)] && inBand[static_cast<std::size_t>(s.b)]) have.insert(key(s.a, s.b));
   std::map<std::pair<int, int>, std::vector<int>> opposite;
   for (const auto& t : tris)
     for (int k = 0; k < 3; ++k) {
@@ -399,9 +411,19 @@ bool meshPattern(const Pattern& input, double spacing, ClothMesh& cloth, std::st
   outline_nodes::OutlineSampling outline;
   if (!outline_nodes::sampleOutlines(pattern, spacing, kOutlineTolerance * spacing, outline, error)) return false;
   const std::size_t np = pattern.panels.size();
-  std::vector<int> loopBase(np + 1, gridNodes);
-  for (std::size_t p = 0; p < np; ++p) loopBase[p + 1] = loopBase[p] + static_cast<int>(outline.loops[p].uv.size());
-  const int total = loopBase[np];
+  // Numbering panel by panel, each panel's outline nodes right after its grid nodes (springs then
+  // join nearby rows of the node arrays).
+  std::vector<int> loopBase(np, 0);
+  int total = 0;
+  for (std::size_t p = 0; p < np; ++p) {
+    const int shift = total - (grids[p].firstNode);
+    for (int& n : grids[p].node)
+      if (n >= 0) n += shift;
+    total += grids[p].nodeCount;
+    loopBase[p] = total;
+    total += static_cast<int>(outline.loops[p].uv.size());
+  }
+  (void)gridNodes;
   if (static_cast<std::size_t>(total) > limits.max_vertices) {
     error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
             " nodes, over the limit of " + std::to_string(limits.max_vertices) +
@@ -431,10 +453,14 @@ bool meshPattern(const Pattern& input, double spacing, ClothMesh& cloth, std::st
     addGridSprings(g, cloth);
   }
   Eigen::Index row = static_cast<Eigen::Index>(2 * cloth.quads.size());
-  for (std::size_t p = 0; p < np; ++p) {
-    for (const auto& t : band[p]) cloth.F.row(row++) << t[0], t[1], t[2];
-    addBandSprings(band[p], cloth);
-  }
+  std::vector<std::array<int, 3>> allBand;
+  allBand.reserve(bandCount);
+  for (std::size_t p = 0; p < np; ++p)
+    for (const auto& t : band[p]) {
+      cloth.F.row(row++) << t[0], t[1], t[2];
+      allBand.push_back(t);
+    }
+  addBandSprings(allBand, cloth);
   for (std::size_t k = 0; k < pattern.seams.size(); ++k) {
     const PatternSeam& seam = pattern.seams[k];
     for (const auto& pr : outline.seam_pairs[k]) {

@@ -154,8 +154,8 @@ struct ClothMesh {
 // over bridged holes and made constrained-Delaunay by edge flips (boundary_band.h); band springs:
 // structural along every band edge that is not a grid spring, flexion across every band edge whose
 // two triangles make a convex quad. Rest lengths from UV; no spring twice.
-// Nodes: the grid nodes panel by panel (row by row within a panel), then the outline nodes panel by
-// panel, counter-clockwise from the panel's first stretch end (or outline point 0). Triangles: the
+// Nodes: panel by panel, its grid nodes (row by row) and then its outline nodes (counter-clockwise
+// from the panel's first stretch end, or outline point 0). Triangles: the
 // quads' first, then the band's, all counter-clockwise in uv (normals along the pose's +z, outward
 // for a wrap). Seam pairs: node k of side a with node k of side b (pairs of one node dropped).
 // Size: the grids of all panels together (before clipping to the outlines) may hold at most
