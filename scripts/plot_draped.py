@@ -15,18 +15,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from obj_mesh import load  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noqa: E402
-
-
-def load(path):
-    V, F = [], []
-    for line in open(path):
-        if line.startswith("v "):
-            V.append([float(x) for x in line.split()[1:4]])
-        elif line.startswith("f "):
-            idx = [int(x.split("/")[0]) - 1 for x in line.split()[1:]]
-            F += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
-    return np.array(V), np.array(F)
 
 
 def boundary(F):
