@@ -292,5 +292,10 @@ TEST(MeshPattern, Meshes3840NodesInAFewMilliseconds) {
               static_cast<int>(c.X.rows()), c.springs.size(), c.seam_pairs.size(), best);
   EXPECT_GT(c.X.rows(), 3500);
   EXPECT_LT(c.X.rows(), 4500);
-  EXPECT_LT(best, 50.0);  // a few ms on a quiet machine; generous for shared CI
+#ifdef VIRTUAL_TRYON_SANITIZED
+  const double bound = 500.0;  // ASan + UBSan run it about ten times slower
+#else
+  const double bound = 50.0;  // a few ms on a quiet machine; generous for shared CI
+#endif
+  EXPECT_LT(best, bound);
 }
