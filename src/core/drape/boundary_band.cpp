@@ -71,24 +71,6 @@ std::vector<double> subdivideFractions(const std::vector<double>& fractions, dou
   return out;
 }
 
-Vec2 pointAtFraction(const std::vector<Vec2>& polyline, double f) {
-  const std::vector<double> cum = cumulative(polyline);
-  const double t = std::clamp(f, 0.0, 1.0) * cum.back();
-  std::size_t e = 0;
-  while (e + 2 < polyline.size() && cum[e + 1] < t) ++e;
-  const double seg = cum[e + 1] - cum[e];
-  const double s = seg > 0 ? std::clamp((t - cum[e]) / seg, 0.0, 1.0) : 0.0;
-  return polyline[e] + s * (polyline[e + 1] - polyline[e]);
-}
-
-double smallestAngle(const Vec2& a, const Vec2& b, const Vec2& c) {
-  auto angle = [](const Vec2& p, const Vec2& q, const Vec2& r) {
-    const Vec2 u = q - p, v = r - p;
-    return std::atan2(std::abs(polygon2d::cross(u, v)), u.dot(v));
-  };
-  return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
-}
-
 namespace {
 
 // Proper crossing of segments ab and cd (touching at an end-point does not count).

@@ -27,9 +27,6 @@ std::vector<double> requiredFractions(const std::vector<Vec2>& polyline, double 
 // `spacing` along a line of `length`.
 std::vector<double> subdivideFractions(const std::vector<double>& fractions, double length, double spacing);
 
-// The point at arc-length fraction f of the polyline.
-Vec2 pointAtFraction(const std::vector<Vec2>& polyline, double f);
-
 double polylineLength(const std::vector<Vec2>& polyline);
 
 // Triangulates the polygon whose outer boundary is loops[0] (counter-clockwise) and whose holes
@@ -37,9 +34,6 @@ double polylineLength(const std::vector<Vec2>& polyline);
 // clockwise. Returns false when a step finds no valid triangle (a loop that crosses another).
 bool triangulateBand(const std::vector<Vec2>& points, const std::vector<std::vector<int>>& loops,
                      std::vector<std::array<int, 3>>& triangles);
-
-// The smallest interior angle of a triangle, radians.
-double smallestAngle(const Vec2& a, const Vec2& b, const Vec2& c);
 
 }  // namespace boundary_band
 }  // namespace virtual_tryon

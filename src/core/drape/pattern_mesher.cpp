@@ -38,8 +38,8 @@ struct PanelGrid {
   double x0 = 0, y0 = 0, h = 0;
   std::vector<char> kept, used;
   std::vector<std::uint8_t> link;
-  std::vector<int> node;  // global node index or -1
-  int firstNode = 0, nodeCount = 0;  // the panel's grid nodes: global firstNode .. + nodeCount
+  std::vector<int> node;  // node index (panel-local until meshPattern numbers the cloth) or -1
+  int nodeCount = 0;      // the panel's grid nodes
   bool convex = true;
   const MatrixX2d* outline = nullptr;
 
@@ -175,19 +175,17 @@ bool checkGridSizes(const Pattern& pattern, double spacing, const MeshLimits& li
 // Every panel's grid and quads, and the nodes in use numbered panel after panel (`total` of them);
 // false (with `error`) when a panel holds no quad or the cloth is over limits.max_vertices.
 bool buildGrids(const Pattern& pattern, double spacing, const MeshLimits& limits,
-                std::vector<PanelGrid>& grids, std::vector<LocalQuads>& localQuads, int& total,
-                std::string& error) {
+                std::vector<PanelGrid>& grids, std::vector<LocalQuads>& localQuads, std::string& error) {
   const int np = static_cast<int>(pattern.panels.size());
   grids.resize(static_cast<std::size_t>(np));
   localQuads.resize(static_cast<std::size_t>(np));
-  total = 0;
+  int total = 0;
   for (int p = 0; p < np; ++p) {
     PanelGrid& g = grids[static_cast<std::size_t>(p)];
     buildGrid(pattern, p, spacing, g, localQuads[static_cast<std::size_t>(p)]);
-    g.firstNode = total;
     for (std::size_t k = 0; k < g.used.size(); ++k)
-      if (g.used[k]) g.node[k] = total++;
-    g.nodeCount = total - g.firstNode;
+      if (g.used[k]) g.node[k] = g.nodeCount++;  // panel-local; meshPattern adds the panel's base
+    total += g.nodeCount;
   }
   if (static_cast<std::size_t>(total) > limits.max_vertices) {
     error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
@@ -406,8 +404,7 @@ bool meshPattern(const Pattern& input, double spacing, ClothMesh& cloth, std::st
 
   std::vector<PanelGrid> grids;
   std::vector<LocalQuads> localQuads;
-  int gridNodes = 0;
-  if (!buildGrids(pattern, spacing, limits, grids, localQuads, gridNodes, error)) return false;
+  if (!buildGrids(pattern, spacing, limits, grids, localQuads, error)) return false;
   outline_nodes::OutlineSampling outline;
   if (!outline_nodes::sampleOutlines(pattern, spacing, kOutlineTolerance * spacing, outline, error)) return false;
   const std::size_t np = pattern.panels.size();
@@ -416,14 +413,12 @@ bool meshPattern(const Pattern& input, double spacing, ClothMesh& cloth, std::st
   std::vector<int> loopBase(np, 0);
   int total = 0;
   for (std::size_t p = 0; p < np; ++p) {
-    const int shift = total - (grids[p].firstNode);
     for (int& n : grids[p].node)
-      if (n >= 0) n += shift;
+      if (n >= 0) n += total;
     total += grids[p].nodeCount;
     loopBase[p] = total;
     total += static_cast<int>(outline.loops[p].uv.size());
   }
-  (void)gridNodes;
   if (static_cast<std::size_t>(total) > limits.max_vertices) {
     error = "spacing " + num(spacing) + " m gives a cloth of " + std::to_string(total) +
             " nodes, over the limit of " + std::to_string(limits.max_vertices) +

@@ -54,12 +54,8 @@ Eigen::Vector3d planeSides(const Eigen::Vector3d& n, const Eigen::Vector3d& p0, 
   return Eigen::Vector3d(n.dot(q0 - p0), n.dot(q1 - p0), n.dot(q2 - p0));
 }
 
-// Whether three plane sides (as planeSides() gives them for a normal n) lie all beyond `margin`
-// (times |n|) on the same side.
-bool allOneSide(const Eigen::Vector3d& s, const Eigen::Vector3d& n, double margin) {
-  const double m = margin * n.norm();
-  return (s.array() > m).all() || (s.array() < -m).all();
-}
+// Whether three plane sides (as planeSides() gives them) lie all beyond m on the same side.
+bool allOneSide(const Eigen::Vector3d& s, double m) { return (s.array() > m).all() || (s.array() < -m).all(); }
 
 // A body face at least this far (m) from a garment face's plane, on one side, crosses it in neither
 // direction; the margin is far above the rounding of the predicate, so the shortcut never hides a
@@ -67,12 +63,12 @@ bool allOneSide(const Eigen::Vector3d& s, const Eigen::Vector3d& n, double margi
 constexpr double kPlaneMargin = 1e-9;
 
 // The crossings of garment face gf's three edges with body face bf, and of bf's three edges with gf;
-// `gn` is gf's normal (x1 - x0) x (x2 - x0). An edge is tested only when its end-points lie on
-// opposite sides of the other face's plane (the predicate's own first test, done once per pair
-// instead of once per edge); a body face wholly on one side of gf's plane (by kPlaneMargin) crosses
-// nothing.
+// `gn` is gf's normal (x1 - x0) x (x2 - x0), `gm` kPlaneMargin times its length. An edge is
+// tested only when its end-points lie on opposite sides of the other face's plane (the
+// predicate's own first test, done once per pair instead of once per edge); a body face wholly on
+// one side of gf's plane (by kPlaneMargin) crosses nothing.
 void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopology& topo, int bf, int gf,
-                  const Eigen::Vector3d& gn, CrossingSet& out) {
+                  const Eigen::Vector3d& gn, double gm, CrossingSet& out) {
   const MatrixX3d& BV = body.mesh().V;
   const MatrixX3i& BF = body.mesh().F;
   const MatrixX3d& GV = garment.V;
@@ -80,7 +76,7 @@ void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopolog
   const Eigen::Vector3d y[3] = {row(BV, BF(bf, 0)), row(BV, BF(bf, 1)), row(BV, BF(bf, 2))};
   const Eigen::Vector3d x[3] = {row(GV, GF(gf, 0)), row(GV, GF(gf, 1)), row(GV, GF(gf, 2))};
   const Eigen::Vector3d sy = planeSides(gn, x[0], y[0], y[1], y[2]);  // body corners to gf
-  if (allOneSide(sy, gn, kPlaneMargin)) return;
+  if (allOneSide(sy, gm)) return;
   const Eigen::Vector3d bn = (y[1] - y[0]).cross(y[2] - y[0]);
   const Eigen::Vector3d sx = planeSides(bn, y[0], x[0], x[1], x[2]);  // garment corners to bf
   auto side = [](const Eigen::Vector3d& s, const MatrixX3i& F, int f, int v) {
@@ -121,7 +117,8 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
     }
     const Eigen::Vector3d x0 = row(GV, GF(gf, 0));
     const Eigen::Vector3d gn = (row(GV, GF(gf, 1)) - x0).cross(row(GV, GF(gf, 2)) - x0);
-    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, out); });
+    const double gm = kPlaneMargin * gn.norm();
+    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, gm, out); });
   }
 }
 
