@@ -41,12 +41,14 @@ std::string usage() {
   };
   const vt::MeshLimits limits;
   return "usage:\n"
-         "  tryon resolve --body B --garment G --out OUT [--clearance M] [--max-iterations N]\n"
-         "                [--objective smooth|paper]\n"
+         "  tryon resolve --body B --garment G --out OUT [--clearance M] [--body-uncertainty M]\n"
+         "                [--max-iterations N] [--objective smooth|paper]\n"
          "      Moves the garment out of the body (Sun et al. 2016). Prints the report as JSON,\n"
          "      with the edge strain and displacement it produced. --objective smooth (default):\n"
          "      the paper's rounds, then a shape relaxation that keeps every constraint; paper:\n"
-         "      the rounds alone. Exit 0 converged, 3 not converged, 2 bad input.\n"
+         "      the rounds alone. --body-uncertainty: how far the true surface may lie outside\n"
+         "      the body mesh (a scan's error, m; default 0): the garment clears the mesh by the\n"
+         "      clearance plus this. Exit 0 converged, 3 not converged, 2 bad input.\n"
          "  tryon check --body B --garment G [--reference INPUT]\n"
          "      Independent brute-force count of crossings (both directions) and inside vertices.\n"
          "      With --reference (the garment before it was resolved): also its shape against\n"
@@ -55,6 +57,7 @@ std::string usage() {
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
          "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
          "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
+         "              [--body-uncertainty M]\n"
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
          "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
          "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
@@ -190,6 +193,8 @@ void save(const std::string& path, const vt::TriMesh& m) {
 vt::ResolverParams resolverParams(const std::map<std::string, std::string>& opt) {
   vt::ResolverParams p;
   p.clearance = number(opt, "clearance", 0.0);
+  p.body_uncertainty = number(opt, "body-uncertainty", 0.0);
+  if (p.body_uncertainty < 0) throw Usage("--body-uncertainty must be >= 0 (metres)");
   const double it = number(opt, "max-iterations", p.max_iterations);
   if (it < 1 || it > 1e7) throw Usage("--max-iterations must be between 1 and 1e7");
   p.max_iterations = static_cast<int>(it);
@@ -265,6 +270,8 @@ int drape(const std::map<std::string, std::string>& opt) {
   p.cloth.k_structural = number(opt, "k-structural", p.cloth.k_structural);
   p.cloth.k_shear = number(opt, "k-shear", p.cloth.k_shear);
   p.cloth.k_flexion = number(opt, "k-flexion", p.cloth.k_flexion);
+  p.resolver.body_uncertainty = number(opt, "body-uncertainty", 0.0);
+  if (p.resolver.body_uncertainty < 0) throw Usage("--body-uncertainty must be >= 0 (metres)");
   p.limits = meshLimits(opt);
   const std::string bad = vt::validateDrapeParams(p);
   if (!bad.empty()) throw std::invalid_argument(bad);
@@ -321,8 +328,8 @@ int main(int argc, char** argv) {
     const std::string cmd = argv[1];
     const auto opt = parseOptions(argc, argv, 2);
     if (cmd == "resolve") {
-      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "max-iterations", "objective", "max-vertices",
-                           "max-faces"});
+      allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "body-uncertainty", "max-iterations",
+                           "objective", "max-vertices", "max-faces"});
       return resolve(opt);
     }
     if (cmd == "check") {
@@ -332,7 +339,7 @@ int main(int argc, char** argv) {
     if (cmd == "drape") {
       allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
                            "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
-                           "k-flexion", "max-vertices", "max-faces"});
+                           "k-flexion", "body-uncertainty", "max-vertices", "max-faces"});
       return drape(opt);
     }
     if (cmd == "demo") {

@@ -50,6 +50,8 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& r) {
   m.body_closed = r.body_closed;
   m.moved_vertices = u32(r.moved_vertices);
   m.clearance = r.clearance;
+  m.body_uncertainty = r.body_uncertainty;
+  m.near_vertices_pushed = static_cast<std::uint32_t>(r.near_vertices_pushed);
   m.mean_displacement = r.mean_displacement;
   m.max_displacement = r.max_displacement;
   m.max_edge_strain = r.max_edge_strain;

@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <thread>
 
@@ -242,4 +244,62 @@ TEST(ZoneConditioning, EigenvaluesOfDuplicateParallelAndOrthogonalStencils) {
   const double cs = std::cos(th);
   EXPECT_NEAR(c.condition, (1 + cs) / (1 - cs), 1e-3 * (1 + cs) / (1 - cs));
   EXPECT_FALSE(zoneConditioning(dup, {0, 1}, 1).computed);
+}
+
+// The garment's least distance to the body's surface, by the referee's own tree.
+double leastDistance(const TriMesh& body, const TriMesh& garment) {
+  const ReferenceTree tree(body);
+  double least = std::numeric_limits<double>::infinity();
+  for (Eigen::Index v = 0; v < garment.V.rows(); ++v)
+    least = std::min(least, tree.distance(body, garment.V.row(v).transpose()));
+  return least;
+}
+
+TEST(ResolverOptions, BodyUncertaintyKeepsTheGarmentThatMuchFartherOut) {
+  // A patch 1 mm above a sphere's top: no crossing, so without uncertainty nothing moves; with a
+  // 3 mm uncertainty every vertex ends at least d + 3 mm from the surface, and still clean.
+  const TriMesh sphere = makeSphere(0.1, V3::Zero(), 4);
+  Body b(sphere);
+  const TriMesh start = makePatch(0.12, 0.12, 24, 24, V3(0, 0.101, 0));
+  ASSERT_GT(leastDistance(sphere, start), 0.0009);
+  ASSERT_LT(leastDistance(sphere, start), 0.0011);
+
+  TriMesh plain = start;
+  const ResolverReport p = resolvePenetrations(b, plain);
+  EXPECT_TRUE(p.converged) << p.reason;
+  EXPECT_EQ(p.moved_vertices, 0u);
+  EXPECT_EQ(p.near_vertices_pushed, 0u);
+  EXPECT_EQ((plain.V - start.V).norm(), 0.0);
+
+  for (double u : {0.001, 0.003}) {
+    ResolverParams params;
+    params.body_uncertainty = u;
+    TriMesh garment = start;
+    const ResolverReport r = resolvePenetrations(b, garment, params);
+    EXPECT_TRUE(r.converged) << r.reason;
+    EXPECT_DOUBLE_EQ(r.body_uncertainty, u);
+    EXPECT_NEAR(r.clearance, p.clearance + u, 1e-12);
+    EXPECT_GT(r.near_vertices_pushed, 0u);
+    const double least = leastDistance(sphere, garment);
+    EXPECT_GE(least, r.clearance - 1e-9) << "u " << u;
+    EXPECT_LT(least, r.clearance + 0.001) << "moved farther than asked, u " << u;  // no needless lift
+    const ReferenceCounts c = ReferenceReferee(sphere).count(garment);
+    EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
+    EXPECT_LT(r.max_edge_strain, 0.1) << "u " << u;
+  }
+}
+
+TEST(ResolverOptions, BodyUncertaintyClearsAPenetratingGarmentByTheWholeClearance) {
+  const ResolveScene s = makeWrinkledTubeScene(48, 30);
+  Body b(s.body);
+  ResolverParams params;
+  params.body_uncertainty = 0.002;
+  TriMesh garment = s.garment;
+  const ResolverReport r = resolvePenetrations(b, garment, params);
+  EXPECT_TRUE(r.converged) << r.reason;
+  const ReferenceCounts c = ReferenceReferee(s.body).count(garment);
+  EXPECT_EQ(c.garment_edge_crossings, 0u);
+  EXPECT_EQ(c.body_edge_crossings, 0u);
+  EXPECT_EQ(c.vertices_inside, 0u);
+  EXPECT_GE(leastDistance(s.body, garment), r.clearance - 1e-9);
 }

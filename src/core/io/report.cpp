@@ -49,6 +49,8 @@ std::string toJson(const ResolverReport& r) {
       .add("vertices_inside_after", r.vertices_inside_after)
       .add("moved_vertices", r.moved_vertices)
       .add("clearance_m", r.clearance)
+      .add("body_uncertainty_m", r.body_uncertainty)
+      .add("near_vertices_pushed", r.near_vertices_pushed)
       .add("mean_displacement_m", r.mean_displacement)
       .add("max_displacement_m", r.max_displacement)
       .add("max_edge_strain", r.max_edge_strain)

@@ -28,7 +28,9 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   if (body.closed() && body.signedVolume() < 0) return refuseInsideOut(body, clock);
   resolver_run::ResolverRun run(body, garment, params, clock);
   run.detect();
-  if (params.objective == ResolverObjective::Smooth && params.push_out_first && params.push_out_inside)
+  if (params.body_uncertainty > 0)
+    run.pushOutNearVertices();
+  else if (params.objective == ResolverObjective::Smooth && params.push_out_first && params.push_out_inside)
     run.pushOutInsideVertices();
   for (;;) {
     if (run.crossingFree()) {

@@ -150,11 +150,13 @@ ResolverRun::ResolverRun(const Body& body, TriMesh& garment, const ResolverParam
       nv_(static_cast<int>(garment.V.rows())),
       topo_(garment),
       graph_(garment, topo_),
-      d_(params.clearance > 0 ? params.clearance
-                              : params.clearance_fraction * meanLength(garment.V, topo_.edges)),
+      d_((params.clearance > 0 ? params.clearance
+                               : params.clearance_fraction * meanLength(garment.V, topo_.edges)) +
+         std::max(0.0, params.body_uncertainty)),
       insideTest_(params.check_inside && body.closed()) {
   rep_.body_closed = body.closed();
   rep_.clearance = d_;
+  rep_.body_uncertainty = std::max(0.0, params.body_uncertainty);
 }
 
 // The first full detection, the inside flags before any move, and the trace's iteration 0.
@@ -398,8 +400,9 @@ void ResolverRun::pushOutInsidePieces() {
   finishPushOut(t0, true);
 }
 
-void ResolverRun::pushToNearest(int v) {
-  const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+void ResolverRun::pushToNearest(int v) { pushTo(v, closestPointOnBody(body_, garment_.V.row(v).transpose())); }
+
+void ResolverRun::pushTo(int v, const ClosestPoint& cp) {
   moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
 }
 
@@ -420,6 +423,20 @@ void ResolverRun::pushOutInsideVertices() {
   movedList_.clear();
   for (int v = 0; v < nv_; ++v)
     if (inside_[v]) pushToNearest(v);
+  finishPushOut(t0, false);
+}
+
+void ResolverRun::pushOutNearVertices() {
+  if (budgetSpent()) return;
+  const double t0 = clock_.now();
+  movedList_.clear();
+  for (int v = 0; v < nv_; ++v) {
+    const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+    if ((insideTest_ && inside_[v]) || cp.distance < d_) {
+      pushTo(v, cp);
+      ++rep_.near_vertices_pushed;
+    }
+  }
   finishPushOut(t0, false);
 }
 

@@ -14,6 +14,7 @@
 // the displacement statistics up to date.
 #pragma once
 
+#include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/impact_zones.h"
 #include "virtual_tryon/core/resolve/intersections.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
@@ -82,6 +83,9 @@ class ResolverRun {
   // or cannot be pushed out, budget); true to stop. Else pushOutInsidePieces() is next.
   bool decideStopCrossingFree();
   void pushOutInsidePieces();
+  // body_uncertainty > 0: every vertex inside the body or nearer to it than the clearance goes to
+  // its nearest body point plus the clearance (before the rounds).
+  void pushOutNearVertices();
   // The stop checks before a round (iteration limit, stall, budget); true to stop, in the best state.
   bool decideStop();
   // One round; false when it moved nothing (the run stops, in the best state).
@@ -111,6 +115,7 @@ class ResolverRun {
   void describeBest();
   void moveVertex(int v, const Eigen::RowVector3d& to);
   void pushToNearest(int v);  // to the nearest body point plus the clearance
+  void pushTo(int v, const ClosestPoint& cp);  // to cp.point plus the clearance along its face normal
   void finishPushOut(double t0, bool alwaysNewBest);
   void redetect();
   void redetectFaces();

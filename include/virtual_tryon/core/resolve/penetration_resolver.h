@@ -63,6 +63,12 @@ struct ResolverParams {
   // Clearance d of eq. 7 in metres; <= 0 means clearance_fraction * mean garment edge length.
   double clearance = 0.0;
   double clearance_fraction = 0.05;
+  // How far the true surface may lie outside the body mesh, metres (>= 0; 0: the mesh is the
+  // surface). For a body meshed from a scan, the scan's error (ScanError::p95). When > 0 the
+  // clearance used is d + body_uncertainty, and before the rounds every garment vertex inside the
+  // body or nearer to it than that clearance is moved to its nearest body point plus the clearance
+  // (the smooth objective's relaxation then keeps every vertex at least that far out).
+  double body_uncertainty = 0.0;
   int max_iterations = 100;
   // Stop as not converged when the error (crossings plus garment vertices inside the body) has not
   // reached a new minimum for this many rounds (a configuration that orientation alone cannot
@@ -105,7 +111,9 @@ struct ResolverReport {
   bool time_budget_spent = false;
   double max_condition_estimate = 1;  // over every direct zone solve of the run (ZoneSolution)
   std::size_t moved_vertices = 0;
-  double clearance = 0;
+  double clearance = 0;           // m, used: d (+ body_uncertainty)
+  double body_uncertainty = 0;    // m, as given
+  std::size_t near_vertices_pushed = 0;  // body_uncertainty > 0: vertices moved out before the rounds
   double mean_displacement = 0;  // over moved vertices
   double max_displacement = 0;
   // Shape against the input garment, over its edges of non-zero length: the largest and the
