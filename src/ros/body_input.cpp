@@ -110,11 +110,22 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
         report.scan_points_used = static_cast<std::uint32_t>(scan.points_after_downsampling);
         report.normals_estimated = scan.normals_estimated;
         report.seconds_meshing = scan.seconds_total;
-        ROS_INFO("tryon_node: scan meshed: %zu points (%zu used), %s, %.2f s",
+        report.poisson_depth = static_cast<std::uint32_t>(scan.depth);
+        report.noise_sigma = scan.noise.sigma;
+        report.scan_error_median = scan.error.median;
+        report.scan_error_p95 = scan.error.p95;
+        report.scan_error_max = scan.error.max;
+        report.scan_error_share_over_2mm = scan.error.share_over_2mm;
+        report.uncertainty = settings_.scan_uncertainty >= 0 ? settings_.scan_uncertainty : scan.error.p95;
+        ROS_INFO("tryon_node: scan meshed: %zu points (%zu used), %s, depth %d, %.2f s; noise %.2f mm; "
+                 "points to mesh: median %.2f, 95%% %.2f, max %.2f mm, %.1f%% beyond 2 mm; fits clear "
+                 "the mesh by their clearance + %.2f mm (%s)",
                  static_cast<std::size_t>(scan.input_points),
                  static_cast<std::size_t>(scan.points_after_downsampling),
-                 scan.normals_estimated ? "normals estimated" : "normals from the scan",
-                 scan.seconds_total);
+                 scan.normals_estimated ? "normals estimated" : "normals from the scan", scan.depth,
+                 scan.seconds_total, 1e3 * scan.noise.sigma, 1e3 * scan.error.median, 1e3 * scan.error.p95,
+                 1e3 * scan.error.max, 100.0 * scan.error.share_over_2mm, 1e3 * report.uncertainty,
+                 settings_.scan_uncertainty >= 0 ? "~scan/uncertainty" : "the scan's 95% error");
         {
           std::lock_guard<std::mutex> lock(mutex_);
           last_scan_hash_ = hash;

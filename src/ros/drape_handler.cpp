@@ -258,6 +258,7 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
       !transformInto(patternFrame, body.frame, req.pattern->header.stamp, pattern, error))
     return false;
 
+  params.resolver.body_uncertainty = body.report.uncertainty;
   const int rendersBefore = body.body->depthMapRenders();
   TriMesh garment;
   const DrapeResult report =

@@ -157,7 +157,13 @@ void TryonNode::readParameters() {
   const ScanMeshingParams sd;
   settings_.scan.voxel_size = readDouble(pnh_, "scan/voxel_size", sd.voxel_size, false);
   settings_.scan.normal_neighbours = readCount(pnh_, "scan/normal_neighbours", sd.normal_neighbours);
-  settings_.scan.depth = readCount(pnh_, "scan/depth", sd.depth);
+  pnh_.param("scan/depth", settings_.scan.depth, sd.depth);
+  pnh_.param("scan/max_auto_depth", settings_.scan.max_auto_depth, sd.max_auto_depth);
+  pnh_.param("scan/uncertainty", settings_.scan_uncertainty, -1.0);
+  if (!std::isfinite(settings_.scan_uncertainty)) {
+    ROS_WARN("tryon_node: ~scan/uncertainty is not finite; using -1 (the scan's error)");
+    settings_.scan_uncertainty = -1;
+  }
   const std::string scanProblem = validateScanMeshingParams(settings_.scan);
   if (!scanProblem.empty()) {
     ROS_WARN_STREAM("tryon_node: ~scan/ parameters are invalid: " << scanProblem
@@ -323,6 +329,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   ResolverParams params = settings_.resolver;
   if (req.clearance > 0) params.clearance = req.clearance;
   if (req.max_iterations > 0) params.max_iterations = static_cast<int>(req.max_iterations);
+  params.body_uncertainty = body.report.uncertainty;
 
   const MatrixX3d before = garment.V;
   const ResolverReport report = resolvePenetrations(*body.body, garment, params);

@@ -299,6 +299,8 @@ TEST(ScanMeshing, BadInputIsRefusedWithAMessage) {
   p = ScanMeshingParams();
   p.depth = 3;
   refused(p, "depth");
+  p.depth = -1;
+  refused(p, "depth");
   p.depth = 13;
   refused(p, "depth");
   p = ScanMeshingParams();
@@ -311,8 +313,11 @@ TEST(ScanMeshing, BadInputIsRefusedWithAMessage) {
   p.min_piece_fraction = 2;
   refused(p, "min_piece_fraction");
   p = ScanMeshingParams();
-  p.threads = 0;
+  p.threads = -1;
   refused(p, "threads");
+  p = ScanMeshingParams();
+  p.max_auto_depth = 3;
+  refused(p, "max_auto_depth");
   p = ScanMeshingParams();
   p.max_hole_edges = -1;
   refused(p, "max_hole_edges");

@@ -6,6 +6,7 @@
 #include "fixtures.h"
 #include "marker_wait.h"
 #include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
 #include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 
@@ -100,6 +101,16 @@ TEST(DemoReplay, TheScanWasMeshedIntoAClosedOutwardBody) {
   EXPECT_EQ(r.source, "scan");
   EXPECT_TRUE(r.normals_estimated);  // the demo scan has no normals, as a scanner gives it
   EXPECT_GT(r.scan_points, 10000u);
+  // The scan's error bar: the demo scan has 2 mm noise; the mesh follows the points to within
+  // 1.5x what that noise alone gives; fits clear the mesh by their clearance plus the 95% error.
+  EXPECT_GE(r.poisson_depth, 6u);
+  EXPECT_NEAR(r.noise_sigma, 0.002, 0.0005);
+  EXPECT_GT(r.scan_error_median, 0.0);
+  EXPECT_LE(r.scan_error_median, r.scan_error_p95);
+  EXPECT_LE(r.scan_error_p95, r.scan_error_max);
+  EXPECT_LE(r.scan_error_p95, 1.5 * 1.96 * r.noise_sigma);
+  EXPECT_GT(r.scan_error_share_over_2mm, 0.0);
+  EXPECT_DOUBLE_EQ(r.uncertainty, r.scan_error_p95);
   // Checked here on the mesh itself, not only from the node's report.
   const vt::TriMesh body = meshFromMsg(*collector->body);
   EXPECT_GT(body.numFaces(), 10000);
@@ -130,12 +141,28 @@ TEST(DemoReplay, BothFittedGarmentsHaveNoCrossingsByABruteForceCount) {
   }
   // The garment mesh came with penetrations: the resolver had work to do.
   const auto r = collector->reports.at("resolve")->resolve;
+  EXPECT_DOUBLE_EQ(r.body_uncertainty, collector->body_report->uncertainty);
+  EXPECT_GT(r.clearance, r.body_uncertainty);
   EXPECT_TRUE(r.converged) << r.reason;
   EXPECT_GT(r.garment_edge_crossings_before + r.body_edge_crossings_before, 10u);
   EXPECT_GT(r.moved_vertices, 10u);
   const auto d = collector->reports.at("drape")->drape;
   EXPECT_EQ(d.seams_open, 0u);
   EXPECT_GT(d.iterations, 10u);
+}
+
+TEST(DemoReplay, BothFittedGarmentsClearTheTrueBodyThatWasScanned) {
+  // The bag's scan is of the procedural body: count against that truth, not against the mesh.
+  const vt::TriMesh truth = vt::makeProceduralBody();
+  for (const std::string kind : {"resolve", "drape"}) {
+    SCOPED_TRACE(kind);
+    const auto g = collector->garmentOf(kind);
+    ASSERT_TRUE(g);
+    const vt::ReferenceCounts c = vt::referenceCounts(truth, meshFromMsg(*g));
+    EXPECT_EQ(c.garment_edge_crossings, 0u);
+    EXPECT_EQ(c.body_edge_crossings, 0u);
+    EXPECT_EQ(c.vertices_inside, 0u);
+  }
 }
 
 TEST(DemoReplay, MarkersShowTheBodyTheGarmentAndTheMovedVertices) {

@@ -63,6 +63,7 @@ class TryonNode {
     ResolverParams resolver;
     DrapeParams drape;  // its resolver part is `resolver`
     ScanMeshingParams scan;
+    double scan_uncertainty = -1;  // m: a scanned body's uncertainty; < 0: its error's p95
     MeshLimits limits;        // refused before allocation: ~max_vertices, ~max_faces
     double tf_timeout = 0.5;  // seconds
     std::string body_frame;   // "" = the body message's frame_id (fallback "body")
@@ -74,7 +75,7 @@ class TryonNode {
   struct BodyState {
     std::shared_ptr<const Body> body;
     std::string frame;
-    virtual_tryon::BodyReport report;
+    virtual_tryon::BodyReport report;  // report.uncertainty: fits clear the mesh by that much more
     std::vector<std::string> warnings;  // found when it was installed; repeated in every response
   };
   struct GarmentState {

@@ -20,6 +20,7 @@
 #include <numeric>
 #include <queue>
 #include <sstream>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -402,6 +403,14 @@ std::size_t closeSmallHoles(TriMesh& m, int maxEdges, std::size_t* facesAdded) {
   return fillLoops(m, boundaryLoops(boundary, m.V.rows()), maxEdges, facesAdded);
 }
 
+int chooseScanDepth(double extent, double spacing, double sigma, int max_depth) {
+  const int hi = std::max(5, max_depth);
+  const double cell = std::max(1.5 * spacing, 2.0 * sigma);
+  if (!(extent > 0) || !(cell > 0) || !std::isfinite(extent / cell)) return hi;
+  const int depth = static_cast<int>(std::ceil(std::log2(1.1 * extent / cell) - 1e-9));
+  return std::min(hi, std::max(5, depth));
+}
+
 std::string validateScanMeshingParams(const ScanMeshingParams& p) {
   if (!(p.voxel_size >= 0) || !std::isfinite(p.voxel_size))
     return "voxel_size must be finite and >= 0 metres (0 = no downsampling), got " + num(p.voxel_size);
@@ -409,12 +418,15 @@ std::string validateScanMeshingParams(const ScanMeshingParams& p) {
     return "normal_neighbours must be in [3, 100], got " + std::to_string(p.normal_neighbours);
   if (!(p.max_normal_disagreement >= 0 && p.max_normal_disagreement <= 1))
     return "max_normal_disagreement must be in [0, 1], got " + num(p.max_normal_disagreement);
-  if (p.depth < 4 || p.depth > 12) return "depth must be in [4, 12], got " + std::to_string(p.depth);
+  if (p.depth != 0 && (p.depth < 4 || p.depth > 12))
+    return "depth must be 0 (chosen from the scan) or in [4, 12], got " + std::to_string(p.depth);
+  if (p.max_auto_depth < 4 || p.max_auto_depth > 12)
+    return "max_auto_depth must be in [4, 12], got " + std::to_string(p.max_auto_depth);
   if (!(p.samples_per_node >= 1 && p.samples_per_node <= 50))
     return "samples_per_node must be in [1, 50], got " + num(p.samples_per_node);
   if (!(p.point_weight >= 0) || !std::isfinite(p.point_weight))
     return "point_weight must be finite and >= 0, got " + num(p.point_weight);
-  if (p.threads < 1) return "threads must be >= 1, got " + std::to_string(p.threads);
+  if (p.threads < 0) return "threads must be >= 0 (0 = one per core), got " + std::to_string(p.threads);
   if (p.max_hole_edges < 0) return "max_hole_edges must be >= 0 (0 = no filling), got " + std::to_string(p.max_hole_edges);
   if (!(p.min_piece_fraction >= 0 && p.min_piece_fraction <= 1))
     return "min_piece_fraction must be in [0, 1], got " + num(p.min_piece_fraction);
@@ -573,16 +585,45 @@ void orientIfNeeded(pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<
   r.seconds_orient = since(t0);
 }
 
-// 4. pcl::Poisson (seconds_reconstruct).
+// The median distance from a point to its nearest neighbour (the first of its kNN list).
+double medianSpacing(const pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<int>& knn, int k) {
+  std::vector<float> d;
+  d.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const int j = knn[i * static_cast<std::size_t>(k)];
+    if (j >= 0) d.push_back((cloud[i].getVector3fMap() - cloud[static_cast<std::size_t>(j)].getVector3fMap()).norm());
+  }
+  if (d.empty()) return 0;
+  auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return *mid;
+}
+
+// 4. The depth: given, or chosen from the cloud's extent, spacing and noise (into r.depth).
+void chooseDepth(const pcl::PointCloud<pcl::PointNormal>& cloud, const std::vector<int>& knn,
+                 const ScanMeshingParams& params, ScanMeshingResult& r) {
+  r.point_spacing = medianSpacing(cloud, knn, params.normal_neighbours);
+  if (params.depth > 0) {
+    r.depth = params.depth;
+    return;
+  }
+  Eigen::Vector4f lo, hi;
+  pcl::getMinMax3D(cloud, lo, hi);
+  const double extent = static_cast<double>((hi - lo).head<3>().maxCoeff());
+  r.depth = chooseScanDepth(extent, r.point_spacing, r.noise.sigma, params.max_auto_depth);
+}
+
+// 4. pcl::Poisson at r.depth (seconds_reconstruct).
 void reconstruct(const pcl::PointCloud<pcl::PointNormal>::Ptr& cloud, const ScanMeshingParams& params,
                  pcl::PointCloud<pcl::PointNormal>& meshPoints, std::vector<pcl::Vertices>& polygons,
                  ScanMeshingResult& r) {
   const auto t0 = Clock::now();
   pcl::Poisson<pcl::PointNormal> poisson;
-  poisson.setDepth(params.depth);
+  poisson.setDepth(r.depth);
   poisson.setSamplesPerNode(static_cast<float>(params.samples_per_node));
   poisson.setPointWeight(static_cast<float>(params.point_weight));
-  poisson.setThreads(params.threads);
+  const unsigned cores = std::thread::hardware_concurrency();
+  poisson.setThreads(params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, cores)));
   poisson.setInputCloud(cloud);
   poisson.performReconstruction(meshPoints, polygons);  // no search tree needed (reconstruct() builds one)
   r.seconds_reconstruct = since(t0);
@@ -628,7 +669,7 @@ std::string cleanUp(const pcl::PointCloud<pcl::PointNormal>& meshPoints,
   if (m.F.rows() == 0) {
     r.seconds_cleanup = since(t0);
     return "Poisson reconstruction produced no faces (" + std::to_string(points) + " points, depth " +
-           std::to_string(params.depth) + ")";
+           std::to_string(r.depth) + ")";
   }
   removeUnusedVertices(m);
   if (params.remove_cavities) r.cavities_removed = removeCavities(m);
@@ -674,15 +715,21 @@ ScanMeshingResult meshScan(const MatrixX3d& points, const MatrixX3d& normals, co
     pcl::PointCloud<pcl::PointNormal>::Ptr cloud;
     std::string error = preparePoints(points, normals, params, cloud, r);
     if (!error.empty()) return fail(error);
+    r.noise = estimateScanNoise(points);
+    r.seconds_noise = r.noise.seconds;
     std::vector<int> knn;
     const bool orient = prepareNormals(cloud, normals.rows() > 0, params, knn, r);
     orientIfNeeded(*cloud, knn, params.normal_neighbours, orient, r);
+    chooseDepth(*cloud, knn, params, r);
     pcl::PointCloud<pcl::PointNormal> meshPoints;
     std::vector<pcl::Vertices> polygons;
     reconstruct(cloud, params, meshPoints, polygons, r);
     error = cleanUp(meshPoints, polygons, cloud->size(), params, r);
     if (error.empty()) error = checkResult(r);
     if (!error.empty()) return fail(error);
+    r.error = measureScanError(points, r.mesh, params.error_points);
+    r.seconds_error = r.error.seconds;
+    if (r.noise.sigma > 0) r.error_ratio = r.error.p95 / (1.959963984540054 * r.noise.sigma);
     r.success = true;
     r.message = r.check.summary;
     r.seconds_total = since(tStart);

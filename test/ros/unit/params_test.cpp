@@ -60,7 +60,9 @@ TEST(Params, ScanDefaultsInParamsYamlAreTheCoreDefaults) {
   EXPECT_DOUBLE_EQ(s["voxel_size"].as<double>(), p.voxel_size);
   EXPECT_EQ(s["normal_neighbours"].as<int>(), p.normal_neighbours);
   EXPECT_EQ(s["depth"].as<int>(), p.depth);
-  EXPECT_EQ(s.size(), 3u) << "a scan/ key the node does not read";
+  EXPECT_EQ(s["max_auto_depth"].as<int>(), p.max_auto_depth);
+  EXPECT_DOUBLE_EQ(s["uncertainty"].as<double>(), -1.0);  // the scan's own error
+  EXPECT_EQ(s.size(), 5u) << "a scan/ key the node does not read";
   ASSERT_TRUE(root["auto_fit"]);
   EXPECT_FALSE(root["auto_fit"].as<bool>());
 }

@@ -1,4 +1,5 @@
 // From a raw body scan (points, optionally normals) to a closed, outward body mesh, through PCL:
+//   0. the scanner's noise, estimated from the raw points (estimateScanNoise, scan_error.h);
 //   1. drop non-finite points (counted);
 //   2. optional voxel-grid downsampling (pcl::VoxelGrid: one point per occupied voxel, the mean);
 //   3. normals: estimated when none are given (PCA of the k nearest neighbours), then oriented
@@ -9,7 +10,8 @@
 //      they are, unless more than `max_normal_disagreement` of the kNN graph's edges join normals
 //      pointing opposite ways (dot < 0): then they are re-oriented by the same propagation;
 //   4. pcl::Poisson surface reconstruction (Kazhdan et al. 2006, no trimming: the indicator's level
-//      set is closed);
+//      set is closed), at the depth chosen from the scan's extent, spacing and noise
+//      (chooseScanDepth) unless one is given;
 //   5. cleaning: unused vertices removed; cavities removed (`remove_cavities`: pieces wound opposite
 //      to the largest piece, i.e. inner walls of air pockets in the indicator function, such as a
 //      pocket closed off between touching thighs); optionally small pieces dropped
@@ -17,10 +19,14 @@
 //      small holes closed (`max_hole_edges`: PoissonRecon's adaptive octree occasionally leaves a
 //      crack of a few edges between cells of different depths);
 //   6. checkBody / orientBody: inverted pieces are flipped; success needs a closed mesh (0 boundary,
-//      0 non-manifold edges) with positive volume.
+//      0 non-manifold edges) with positive volume;
+//   7. the scan's error: the distance from the input points to the final mesh (measureScanError),
+//      the error bar of the reconstruction, needing no ground truth. A fit to this body should
+//      clear it by at least error.p95 (ResolverParams::body_uncertainty).
 #pragma once
 
 #include "virtual_tryon/core/body/body_check.h"
+#include "virtual_tryon/core/body/scan_error.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 
 #include <cstddef>
@@ -29,23 +35,28 @@
 namespace virtual_tryon {
 
 struct ScanMeshingParams {
-  // Defaults: a 200k-point body scan meshes in about 3.6 s on a shared 2-core machine (depth 7:
-  // cells of ~1.5 cm on a 1.7 m body, vertices 0.35 mm from the surface on average).
+  // Defaults: a 200k-point body scan meshes in about 4 s on a shared 2-core machine (depth 8 chosen:
+  // cells of ~7.5 mm on a 1.7 m body; the points' 95th-percentile distance to the mesh is 1.1-1.2x
+  // what the noise alone gives).
   double voxel_size = 0.005;   // metres, edge of the downsampling voxels; 0 = no downsampling (>= 0)
   int normal_neighbours = 16;  // k of the kNN normal estimation and orientation graph, 3 .. 100
   double max_normal_disagreement = 0.01;  // given normals: re-orient them when more than this
                                           // fraction of kNN edges disagree, 0 .. 1
-  int depth = 7;               // Poisson octree depth, 4 .. 12: the finest cells are
-                               // 1.1 x (largest bounding-box side) / 2^depth
+  // Poisson octree depth: 0 = chosen from the scan (see chooseScanDepth), else 4 .. 12. The finest
+  // cells are 1.1 x (largest bounding-box side) / 2^depth.
+  int depth = 0;
+  int max_auto_depth = 8;      // the deepest that depth 0 may choose, 4 .. 12 (time grows ~3x per level)
   double samples_per_node = 1.5;  // Poisson: minimum points per octree node (more = smoother), 1 .. 50
   double point_weight = 4.0;   // Poisson: weight of the interpolation constraint (>= 0)
-  int threads = 1;             // Poisson solver threads (>= 1)
+  int threads = 0;             // Poisson solver threads (>= 0; 0 = one per core)
   bool remove_cavities = true;       // drop pieces wound opposite to the largest one (see 5.)
   double min_piece_fraction = 0.01;  // drop reconstructed pieces with fewer faces than this
                                      // fraction of the largest one; 0 keeps all, 0 .. 1
   int max_hole_edges = 64;           // close boundary loops of up to this many edges (a triangle
                                      // or a fan round their centroid); 0 = never, >= 0
   std::size_t min_points = 100;      // fewer valid points than this: refused (>= normal_neighbours + 1)
+  std::size_t error_points = 50000;  // the scan's error is measured over at most this many input
+                                     // points (an even stride; 0 = all)
 };
 
 // What meshScan did. Counts, booleans and seconds describe the run; `mesh` is the result.
@@ -67,6 +78,10 @@ struct ScanMeshingResult {
   std::size_t normals_flipped = 0;     // normals whose sign the propagation changed
   std::size_t graph_components = 0;    // connected components of the kNN graph (orientation seeds;
                                        // 0 when the normals were not re-oriented)
+  ScanNoiseEstimate noise;             // the scanner's noise, from the input points (scan_error.h)
+  double point_spacing = 0;            // metres, median distance from a point fed to Poisson to its
+                                       // nearest neighbour
+  int depth = 0;                       // Poisson depth used (chosen when params.depth is 0)
   std::size_t poisson_vertices = 0, poisson_faces = 0;  // raw Poisson output
   std::size_t cavities_removed = 0;    // inner cavity walls removed (remove_cavities)
   std::size_t dropped_pieces = 0;      // small pieces removed (min_piece_fraction)
@@ -78,7 +93,12 @@ struct ScanMeshingResult {
   double signed_volume = 0;            // m^3, of the final mesh
   bool flipped = false;                // the reconstruction came out inverted and was flipped
   BodyCheck check;                     // the final body check (after flipping)
+  ScanError error;                     // distance from the input points to the final mesh
+  double error_ratio = 0;              // error.p95 / (1.96 noise.sigma): 1 when the mesh lies on
+                                       // the true surface, larger when it smooths details away
+                                       // (0 when no noise was measured)
 
+  double seconds_noise = 0;            // the noise estimate
   double seconds_downsample = 0;       // filtering non-finite points and the voxel grid
   double seconds_normals = 0;          // kNN search and normal estimation (or the consistency test)
                                        // (all seconds are wall-clock)
@@ -86,6 +106,7 @@ struct ScanMeshingResult {
   double seconds_reconstruct = 0;      // pcl::Poisson
   double seconds_cleanup = 0;          // conversion, unused vertices, cavities, small pieces, holes,
                                        // body check
+  double seconds_error = 0;            // the error measurement
   double seconds_total = 0;
 };
 
@@ -100,6 +121,13 @@ ScanMeshingResult meshScan(const MatrixX3d& points, const MatrixX3d& normals,
 // passes a vertex twice is split there; a boundary that dead-ends (non-manifold) is left open.
 // Returns the number of loops closed; `faces_added` (optional) receives the faces appended to F.
 std::size_t closeSmallHoles(TriMesh& mesh, int max_hole_edges, std::size_t* faces_added = nullptr);
+
+// The Poisson depth for a scan whose largest bounding-box side is `extent` (m), whose points lie
+// `spacing` apart (m, median nearest-neighbour distance) with noise `sigma` (m): the coarsest depth
+// whose finest cell, 1.1 extent / 2^depth, is at most max(1.5 spacing, 2 sigma), within
+// [5, max_depth]. Finer cells than the points' spacing add no detail (Poisson needs several points
+// per cell) and cost ~3x per level; coarser ones smooth away the limbs' curvature.
+int chooseScanDepth(double extent, double spacing, double sigma, int max_depth);
 
 // Checks the parameters; returns "" when valid, else a message naming the first bad parameter and
 // its allowed range.
