@@ -25,6 +25,11 @@ TEST(ReportSummary, ResolveSummaryConvergedAndNot) {
   EXPECT_EQ(resolveSummary(r),
             "resolved 12 garment-edge + 3 body-edge crossings in 4 iterations (57 vertices moved, max "
             "0.0123 m, clearance 0.002 m) in 0.052 s");
+  r.clearance = 0.0042;
+  r.body_uncertainty = 0.0022;  // a scanned body's error
+  EXPECT_EQ(resolveSummary(r),
+            "resolved 12 garment-edge + 3 body-edge crossings in 4 iterations (57 vertices moved, max "
+            "0.0123 m, clearance 0.0042 m, of which 0.0022 m the body's uncertainty) in 0.052 s");
   r.converged = false;
   r.iterations = 50;
   r.reason = "stalled";

@@ -5,13 +5,15 @@
 namespace virtual_tryon {
 
 std::string resolveSummary(const ResolverReport& r) {
-  char buf[320];
+  char buf[320], uncertainty[96] = "";
+  if (r.body_uncertainty > 0)
+    std::snprintf(uncertainty, sizeof uncertainty, ", of which %.4g m the body's uncertainty", r.body_uncertainty);
   if (r.converged)
     std::snprintf(buf, sizeof buf,
                   "resolved %zu garment-edge + %zu body-edge crossings in %d iterations "
-                  "(%zu vertices moved, max %.4f m, clearance %.4g m) in %.3f s",
+                  "(%zu vertices moved, max %.4f m, clearance %.4g m%s) in %.3f s",
                   r.garment_edge_crossings_before, r.body_edge_crossings_before, r.iterations,
-                  r.moved_vertices, r.max_displacement, r.clearance, r.seconds_total);
+                  r.moved_vertices, r.max_displacement, r.clearance, uncertainty, r.seconds_total);
   else
     std::snprintf(buf, sizeof buf,
                   "not converged after %d iterations: %s (%zu garment-edge + %zu body-edge "
