@@ -15,6 +15,7 @@ PACKAGES=(
   libgtest-dev googletest
   libactionlib-dev libactionlib-msgs-dev ros-actionlib-msgs python3-actionlib python3-actionlib-msgs
   libpcl-dev python3-matplotlib python3-numpy
+  libvtk9-dev xvfb xauth
   clang libfuzzer-14-dev
 )
 

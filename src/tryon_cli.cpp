@@ -12,8 +12,10 @@
 #include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/testing/reference_shape.h"
 #include "virtual_tryon/core/io/report.h"
+#include "virtual_tryon/render/fit_render.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -26,6 +28,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace vt = virtual_tryon;
 
@@ -57,7 +60,7 @@ std::string usage() {
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
          "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
          "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
-         "              [--body-uncertainty M]\n"
+         "              [--body-uncertainty M] [--render PREFIX]\n"
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
          "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
          "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
@@ -75,6 +78,14 @@ std::string usage() {
          "      Prints the report as JSON and writes the garment (one welded mesh) to OUT.\n"
          "      Exit 0 converged, 3 not converged, 2 bad input or a failed drape (message on\n"
          "      stderr; no OUT written).\n"
+         "  tryon render --body B --garment G --out PREFIX [--reference INPUT] [--strain-scale S]\n"
+         "               [--title T]\n"
+         "      Writes PREFIX_front.png, PREFIX_side.png, PREFIX_back.png (VTK, offscreen): the body\n"
+         "      in grey, the garment coloured by edge strain against INPUT (the garment before it\n"
+         "      was resolved: same faces and vertex order; blue 0 .. red S and beyond, default\n"
+         "      0.15), in one colour without INPUT. Without an X display it runs itself under\n"
+         "      xvfb-run. drape --render PREFIX writes the same pictures of a drape, coloured by\n"
+         "      the strain of its structural springs.\n"
          "  tryon demo --out DIR\n"
          "      Resolves the built-in procedural scene; writes body.obj, garment_in.obj,\n"
          "      garment_out.obj and report.json into DIR.\n"
@@ -246,6 +257,25 @@ int check(const std::map<std::string, std::string>& opt) {
   return (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) == 0 ? 0 : 3;
 }
 
+// The fit-map pictures; throws when they cannot be made.
+void renderPictures(const vt::TriMesh& body, const vt::TriMesh& garment, const std::vector<double>& strain,
+                    const std::string& prefix, const std::map<std::string, std::string>& opt, const std::string& title) {
+  vt::FitRenderParams p;
+  p.strain_scale = number(opt, "strain-scale", p.strain_scale);
+  p.title = opt.count("title") ? opt.at("title") : title;
+  const vt::FitRenderResult r = vt::renderFit(body, garment, strain, prefix, p);
+  if (!r.success) throw std::invalid_argument("render: " + r.message);
+  for (const std::string& f : r.files) std::cerr << "tryon: wrote " << f << "\n";
+}
+
+// The name of a file without its folder and extension.
+std::string stem(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  const std::size_t dot = name.find_last_of('.');
+  return dot == std::string::npos ? name : name.substr(0, dot);
+}
+
 int drape(const std::map<std::string, std::string>& opt) {
   const std::string bodyPath = required(opt, "body");
   const std::string patternPath = required(opt, "pattern");
@@ -298,7 +328,25 @@ int drape(const std::map<std::string, std::string>& opt) {
   }
   for (const std::string& w : rep.warnings) std::cerr << "warning: " << w << "\n";
   save(out, garment);
+  if (opt.count("render")) renderPictures(body.mesh(), garment, rep.vertex_strain, opt.at("render"), opt, stem(patternPath));
   return rep.converged ? 0 : 3;
+}
+
+int render(const std::map<std::string, std::string>& opt) {
+  const vt::MeshLimits limits = meshLimits(opt);
+  const vt::BodyPreparation body = loadBody(required(opt, "body"), limits);
+  const std::string garmentPath = required(opt, "garment");
+  const vt::TriMesh garment = loadGarment(garmentPath, limits);
+  std::vector<double> strain;
+  if (opt.count("reference")) {
+    const vt::TriMesh input = loadGarment(opt.at("reference"), limits);
+    if (input.V.rows() != garment.V.rows() || input.F != garment.F)
+      throw std::invalid_argument("--reference " + opt.at("reference") +
+                                  ": not the garment's faces and vertex order");
+    strain = vt::vertexEdgeStrain(input, garment.V);
+  }
+  renderPictures(body.mesh, garment, strain, required(opt, "out"), opt, stem(garmentPath));
+  return 0;
 }
 
 int demo(const std::map<std::string, std::string>& opt) {
@@ -317,6 +365,19 @@ int demo(const std::map<std::string, std::string>& opt) {
   return rep.converged ? 0 : 3;
 }
 
+// VTK on Debian renders through X: without a display, run this same command under xvfb-run (a
+// virtual X server). Returns only when xvfb-run cannot be started (the render then says why).
+void reexecUnderXvfb(int argc, char** argv) {
+  if (std::getenv("VIRTUAL_TRYON_IN_XVFB")) return;  // never twice
+  ::setenv("VIRTUAL_TRYON_IN_XVFB", "1", 1);
+  std::vector<char*> args{const_cast<char*>("xvfb-run"), const_cast<char*>("-a"), const_cast<char*>("-s"),
+                          const_cast<char*>("-screen 0 1280x1024x24")};
+  for (int i = 0; i < argc; ++i) args.push_back(argv[i]);
+  args.push_back(nullptr);
+  ::execvp("xvfb-run", args.data());
+  warn("no X display and xvfb-run could not be started (install xvfb: scripts/setup.sh)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -327,6 +388,7 @@ int main(int argc, char** argv) {
     }
     const std::string cmd = argv[1];
     const auto opt = parseOptions(argc, argv, 2);
+    if ((cmd == "render" || opt.count("render")) && !std::getenv("DISPLAY")) reexecUnderXvfb(argc, argv);
     if (cmd == "resolve") {
       allowOnly(opt, cmd, {"body", "garment", "out", "clearance", "body-uncertainty", "max-iterations",
                            "objective", "max-vertices", "max-faces"});
@@ -339,8 +401,13 @@ int main(int argc, char** argv) {
     if (cmd == "drape") {
       allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
                            "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
-                           "k-flexion", "body-uncertainty", "max-vertices", "max-faces"});
+                           "k-flexion", "body-uncertainty", "render", "strain-scale", "title",
+                           "max-vertices", "max-faces"});
       return drape(opt);
+    }
+    if (cmd == "render") {
+      allowOnly(opt, cmd, {"body", "garment", "out", "reference", "strain-scale", "title", "max-vertices", "max-faces"});
+      return render(opt);
     }
     if (cmd == "demo") {
       allowOnly(opt, cmd, {"out"});

@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 using namespace virtual_tryon;
@@ -163,4 +164,47 @@ TEST(Cli, DrapeBadInputExitsTwo) {
   EXPECT_EQ(runCli("drape" + body + " --pattern " + dir + "/bag.yaml" + out + " --spaceing 0.03").code, 2);
   EXPECT_EQ(runCli("drape" + body + out).code, 2);  // no --pattern
   EXPECT_FALSE(std::ifstream(dir + "/o.obj").good());
+}
+
+namespace {
+
+// The bytes of a file ("" when missing).
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST(Cli, RenderWritesTheFitMapFromThreeSidesWithoutADisplay) {
+#ifdef VIRTUAL_TRYON_SANITIZED
+  GTEST_SKIP() << "OpenGL (Mesa under Xvfb) is not built with the sanitizers; the normal suite runs this";
+#endif
+  const std::string dir = tempDir("tryon_cli_");
+  ResolveScene s = makeWrinkledTubeScene(40, 24);
+  save(dir + "/body.obj", s.body);
+  save(dir + "/garment.obj", s.garment);
+  ASSERT_EQ(runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/garment.obj --out " + dir + "/out.obj").code, 0);
+  // No display: the command runs itself under xvfb-run.
+  const std::string err = dir + "/render.err";
+  const CliRun r = runCli("render --body " + dir + "/body.obj --garment " + dir + "/out.obj --reference " + dir +
+                              "/garment.obj --out " + dir + "/fit --title tube",
+                          err);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string previous;
+  for (const char* view : {"front", "side", "back"}) {
+    const std::string png = fileBytes(dir + "/fit_" + view + ".png");
+    ASSERT_GT(png.size(), 10000u) << view;
+    EXPECT_EQ(png.substr(1, 3), "PNG") << view;
+    EXPECT_NE(png, previous) << view << ": the same picture as the view before";
+    previous = png;
+    EXPECT_NE(r.err.find(std::string("fit_") + view + ".png"), std::string::npos) << r.err;
+  }
+  // A reference that is not the garment's input: bad input, nothing rendered.
+  save(dir + "/other.obj", makePatch(0.1, 0.1, 3, 3));
+  EXPECT_EQ(runCli("render --body " + dir + "/body.obj --garment " + dir + "/out.obj --reference " + dir +
+                   "/other.obj --out " + dir + "/bad")
+                .code,
+            2);
+  EXPECT_TRUE(fileBytes(dir + "/bad_front.png").empty());
 }

@@ -423,6 +423,17 @@ void ClothState::strain(double& maxStrain, double& meanStrain) const {
   if (n) meanStrain /= static_cast<double>(n);
 }
 
+std::vector<double> ClothState::nodeStrain(const MatrixX3d& x) const {
+  std::vector<double> strain(static_cast<std::size_t>(x.rows()), 0.0);
+  for (const Spring& sp : springs_) {
+    if (sp.type != SpringType::Structural || !(sp.rest > 0) || sp.a >= x.rows() || sp.b >= x.rows()) continue;
+    const double e = std::abs((x.row(sp.b) - x.row(sp.a)).norm() / sp.rest - 1.0);
+    strain[static_cast<std::size_t>(sp.a)] = std::max(strain[static_cast<std::size_t>(sp.a)], e);
+    strain[static_cast<std::size_t>(sp.b)] = std::max(strain[static_cast<std::size_t>(sp.b)], e);
+  }
+  return strain;
+}
+
 TriMesh ClothState::mesh() const {
   TriMesh m;
   m.V = x_;

@@ -102,6 +102,7 @@ class DrapeRun {
     }
     rep_.success = true;
     resolve(garment);
+    rep_.vertex_strain = cloth_->nodeStrain(garment.V);
     summarize();
     return rep_;
   }

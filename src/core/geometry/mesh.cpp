@@ -285,6 +285,21 @@ std::size_t boundaryLoops(const TriMesh& mesh) {
   return loops;
 }
 
+std::vector<double> vertexEdgeStrain(const TriMesh& rest, const MatrixX3d& V) {
+  std::vector<double> strain(static_cast<std::size_t>(rest.V.rows()), 0.0);
+  if (V.rows() != rest.V.rows()) return strain;
+  const MatrixX2i E = uniqueEdges(rest);
+  for (Eigen::Index e = 0; e < E.rows(); ++e) {
+    const int a = E(e, 0), b = E(e, 1);
+    const double l0 = (rest.V.row(a) - rest.V.row(b)).norm();
+    if (!(l0 > 0)) continue;
+    const double s = std::abs((V.row(a) - V.row(b)).norm() / l0 - 1.0);
+    strain[static_cast<std::size_t>(a)] = std::max(strain[static_cast<std::size_t>(a)], s);
+    strain[static_cast<std::size_t>(b)] = std::max(strain[static_cast<std::size_t>(b)], s);
+  }
+  return strain;
+}
+
 double meanEdgeLength(const TriMesh& mesh) {
   const MatrixX2i E = uniqueEdges(mesh);
   if (E.rows() == 0) return 0.0;

@@ -86,6 +86,9 @@ class ClothState {
   double rmsSpeed() const;  // sqrt(2 KE / total mass)
   // max and mean |l / l0 - 1| over structural springs.
   void strain(double& maxStrain, double& meanStrain) const;
+  // Per node, the largest |l / l0 - 1| of the structural springs at it, with the nodes at `x`
+  // (#N by 3, e.g. the garment after the resolver moved it); 0 where no spring meets the node.
+  std::vector<double> nodeStrain(const MatrixX3d& x) const;
   // Springs the velocity fix acted on in the last step.
   std::size_t fixedSprings() const { return fixed_springs_; }
 

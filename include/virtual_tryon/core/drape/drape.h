@@ -86,6 +86,9 @@ struct DrapeResult {
   // #V by 3: the garment as draped, before the resolver pass moved it (empty when it did not run),
   // so that a viewer can show what the resolver moved.
   MatrixX3d draped_vertices;
+  // #V of the garment: the largest |l / l0 - 1| of the structural springs at each vertex, for the
+  // final garment (after the resolver): the fit map (render/fit_render.h, the rviz markers).
+  std::vector<double> vertex_strain;
 };
 
 // Drapes `pattern` on `body`; the result (welded, one mesh) goes to `garment` even when not

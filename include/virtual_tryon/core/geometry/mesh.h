@@ -89,6 +89,11 @@ void facesRoundVertices(const MatrixX3i& F, int numVertices, std::vector<int>& s
 // receives #F by 3: faceEdges(f,k) is the index of the edge from corner k to corner (k+1)%3.
 MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges = nullptr);
 
+// Per vertex, the largest edge strain |l / l0 - 1| of the edges at it: l0 from `rest`, l from `V`
+// (#V by 3, the same vertex order and faces as rest). #V values; 0 where no edge of non-zero rest
+// length meets the vertex. The fit map of a garment against its input (render/fit_render.h).
+std::vector<double> vertexEdgeStrain(const TriMesh& rest, const MatrixX3d& V);
+
 // Mean length of the unique edges (0 for an empty mesh).
 double meanEdgeLength(const TriMesh& mesh);
 
