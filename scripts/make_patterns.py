@@ -312,8 +312,8 @@ def shirt_outline(L, y0, flare=1.0, sleeveless=True):
     w_hem = 0.5 * max_girth(L, y0, y0 + 0.1) * 1.12 * flare
     h_sh = L["shoulder_y"] - y0 + 0.10  # straps start well above the shoulders and are sewn over them
     s_out = L["shoulder_x"] * (0.85 if sleeveless else 1.0)
-    s_in = L["neck_rx"] + 0.02
-    h_neck = h_sh - (0.07 if sleeveless else 0.05)
+    s_in = L["neck_rx"] + 0.045
+    h_neck = h_sh - (0.09 if sleeveless else 0.08)
     side = side_line(L, y0, (w_hem / 2, 0), (w_arm / 2, h_arm), 1.06)
     k = len(side)
     pts = ([(-w_hem / 2, 0), (w_hem / 2, 0)] + side +

@@ -385,3 +385,34 @@ TEST(Cloth, VelocityFixHasTheLastWordAfterTheCollisionHook) {
   ASSERT_TRUE(sewing.step(1e-3, true));
   EXPECT_GT(maxLength(sewing), before + 1e-2);
 }
+
+// strain_restore (off by default): after welding, a spring longer than (1 + stretch_threshold)
+// rest contracts by that fraction of its excess per step; the velocity fix alone only stops it
+// from growing.
+TEST(Cloth, StrainRestoreContractsOverLongSpringsTheFixAloneHolds) {
+  ClothMesh mesh = gridCloth(5, 0.04);
+  mesh.X.col(0) *= 1.3;  // structural x springs 30% long
+  auto maxLength = [](const ClothState& c) {
+    double worst = 0;
+    for (const Spring& s : c.springs())
+      if (s.type == SpringType::Structural)
+        worst = std::max(worst, (c.positions().row(s.b) - c.positions().row(s.a)).norm() / s.rest);
+    return worst;
+  };
+  ClothParams p;
+  p.gravity.setZero();
+  p.k_structural = 0;  // no elastic pull back: only the correction can shorten a spring
+  p.k_shear = 0;
+  p.k_flexion = 0;
+  ClothState held(mesh, p);
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(held.step(1e-3, false));
+  EXPECT_NEAR(maxLength(held), 1.3, 1e-9);
+  p.strain_restore = 0.2;
+  ClothState restored(mesh, p);
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(restored.step(1e-3, false));
+  EXPECT_LT(maxLength(restored), 1.0 + p.stretch_threshold + 0.01);
+  // Never while sewing: the seams pull the cloth on purpose.
+  ClothState sewing(mesh, p);
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(sewing.step(1e-3, true));
+  EXPECT_NEAR(maxLength(sewing), 1.3, 1e-9);
+}

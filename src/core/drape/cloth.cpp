@@ -117,22 +117,32 @@ void ClothState::computeForces(bool sewing) {
   over_index_.clear();
   addSpringForces(packed_, x4_, f4_, 1.0 + params_.stretch_threshold, params_.vectorized, over_index_);
   over_.clear();
-  for (int s : over_index_) addStretched(springs_[s].a, springs_[s].b);
+  for (int s : over_index_) addStretched(s);
   over_valid_ = true;
 }
 
-void ClothState::addStretched(int a, int b) {
-  const Eigen::RowVector3d d = x_.row(b) - x_.row(a);
+void ClothState::addStretched(int spring) {
+  const Spring& sp = springs_[static_cast<std::size_t>(spring)];
+  const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
   const double len = d.norm();
-  over_.push_back({a, b, {d.x() / len, d.y() / len, d.z() / len}});
+  over_.push_back({sp.a, sp.b, {d.x() / len, d.y() / len, d.z() / len},
+                   std::max(0.0, len - (1.0 + params_.stretch_threshold) * sp.rest)});
 }
 
-void ClothState::fixVelocities() {
+void ClothState::fixVelocities(double restore) {
   fixed_springs_ = 0;
   if (params_.velocity_fix_passes <= 0) return;
   // Over-stretched springs of the current positions (computeForces notes them).
   if (!over_valid_) computeForces(false);
   double* v = v_.data();
+  if (restore > 0)
+    for (const Stretched& o : over_) {  // the contraction, half at each end
+      const double c = 0.5 * restore * o.excess;
+      for (int k = 0; k < 3; ++k) {
+        v[3 * o.a + k] += c * o.u[k];
+        v[3 * o.b + k] -= c * o.u[k];
+      }
+    }
   auto along = [v](int node, const double* u) { return v[3 * node] * u[0] + v[3 * node + 1] * u[1] + v[3 * node + 2] * u[2]; };
   for (int pass = 0; pass < params_.velocity_fix_passes; ++pass) {
     std::size_t acted = 0;
@@ -238,7 +248,7 @@ bool ClothState::step(double dt, bool sewing) {
   computeForces(sewing);
   if (sewing) addSeamPull(seams_, seam_stage_, x_, params_, f4_);
   accelerate(x_.rows(), v_, f4_, m_, dt);
-  fixVelocities();
+  fixVelocities(sewing || !(dt > 0) ? 0.0 : params_.strain_restore / dt);
   if (hook_) {
     hook_(x_, v_);
     // The collision response changes velocities after the fix and can stretch the cloth again:

@@ -32,6 +32,12 @@ struct ClothParams {
   Eigen::Vector3d gravity{0, -9.81, 0};
   double stretch_threshold = 0.10;  // super-elasticity threshold, 0.01 .. 0.15
   int velocity_fix_passes = 3;      // Gauss-Seidel passes of the velocity fix per step; 0: off
+  // Beyond the paper: once the seams are welded, each spring longer than (1 + stretch_threshold)
+  // rest also contracts, both ends moving towards each other so that this fraction of its excess
+  // length goes in one step (Provot 1995's correction, as a velocity). The velocity fix alone only
+  // stops an over-long spring from growing: what sewing stretched, and what the garment's weight
+  // holds on its shoulders, stayed (springs 30-70% long). 0: off, 0 .. 1.
+  double strain_restore = 0.0;
   double runaway_speed = 50.0;      // m/s: a faster node means the integration blew up
   // Spring forces four springs at a time with AVX2 + FMA when the processor has them (chosen at
   // run time; about half the time of the scalar loop). Off: the scalar loop everywhere. The two
@@ -104,7 +110,9 @@ class ClothState {
   TriMesh mesh() const;
 
   // Applies the velocity fix alone (exposed for tests).
-  void fixVelocities();
+  // `restore` (1/s): each over-long spring's ends also approach each other at restore x its excess
+  // (strain_restore / dt); 0: the velocity fix alone.
+  void fixVelocities(double restore = 0.0);
 
   // Forces at the current state (springs, gravity, damping; no seams), #N by 3, and the potential
   // energy they derive from (springs 1/2 k (l - l0)^2 plus gravity -m g.x), for derivative checks.
@@ -128,11 +136,12 @@ class ClothState {
   std::vector<int> over_index_;
   void packSprings();
   struct Stretched {
-    int a, b;      // the spring's end nodes
-    double u[3];   // unit vector from a to b
+    int a, b;       // the spring's end nodes
+    double u[3];    // unit vector from a to b
+    double excess;  // m: its length beyond (1 + stretch_threshold) rest
   };
   std::vector<Stretched> over_;  // over-stretched springs at the current positions
-  void addStretched(int a, int b);
+  void addStretched(int spring);
   bool over_valid_ = false;
   std::vector<SeamPair> seams_;  // open seam pairs
   std::vector<char> seam_welded_;  // per pattern seam
