@@ -247,7 +247,9 @@ void toMsg(const TriMesh& mesh, const std_msgs::Header& header, pcl_msgs::Polygo
 
 visualization_msgs::Marker toTriangleListMarker(const TriMesh& mesh, const std::string& frame_id,
                                                 const std::string& ns, int id,
-                                                const std_msgs::ColorRGBA& color) {
+                                                const std_msgs::ColorRGBA& color,
+                                                const std::vector<std_msgs::ColorRGBA>* vertex_colors) {
+  const bool perVertex = vertex_colors && vertex_colors->size() == static_cast<std::size_t>(mesh.V.rows());
   visualization_msgs::Marker m;
   m.header.frame_id = frame_id;
   m.ns = ns;
@@ -261,6 +263,7 @@ visualization_msgs::Marker toTriangleListMarker(const TriMesh& mesh, const std::
   m.scale.x = m.scale.y = m.scale.z = 1.0;
   m.color = color;
   m.points.reserve(static_cast<std::size_t>(mesh.F.rows()) * 3);
+  if (perVertex) m.colors.reserve(m.points.capacity());
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     if (!faceIsValid(mesh, f)) continue;
     for (int k = 0; k < 3; ++k) {
@@ -270,6 +273,7 @@ visualization_msgs::Marker toTriangleListMarker(const TriMesh& mesh, const std::
       p.y = row(1);
       p.z = row(2);
       m.points.push_back(p);
+      if (perVertex) m.colors.push_back((*vertex_colors)[static_cast<std::size_t>(mesh.F(f, k))]);
     }
   }
   return m;

@@ -297,7 +297,8 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
     publishFit(fit, res.garment);
     publishMarkers(body.body->mesh(), body.frame, &garment,
                    report.draped_vertices.rows() == garment.V.rows() ? &report.draped_vertices
-                                                                      : nullptr);
+                                                                      : nullptr,
+                   &report.vertex_strain);
   }
   return true;
 }

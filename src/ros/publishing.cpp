@@ -7,6 +7,8 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
+#include <cmath>
+#include <vector>
 
 namespace virtual_tryon {
 namespace {
@@ -22,6 +24,22 @@ std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
   return c;
 }
 
+// The fit map's colours: hue from blue (no strain) to red (kFitMapStrain and beyond), as the
+// renderer's lookup table (render/fit_render.cpp).
+constexpr double kFitMapStrain = 0.15;
+std_msgs::ColorRGBA strainColour(double strain) {
+  const double t = std::min(1.0, std::max(0.0, strain / kFitMapStrain));
+  const double h = 4.0 * (1.0 - t);  // hue in sixths of the circle: 4 blue, 2 green, 0 red
+  const double s = 0.85, v = 0.95, c = v * s;
+  const double x = c * (1.0 - std::abs(std::fmod(h, 2.0) - 1.0)), m = v - c;
+  double r = 0, g = 0, b = 0;
+  if (h >= 3) g = x, b = c;
+  else if (h >= 2) g = c, b = x;
+  else if (h >= 1) r = x, g = c;
+  else r = c, g = x;
+  return rgba(static_cast<float>(r + m), static_cast<float>(g + m), static_cast<float>(b + m), 1.0f);
+}
+
 visualization_msgs::Marker deleteMarker(const std::string& frame, const std::string& ns, int id) {
   visualization_msgs::Marker del;
   del.header.frame_id = frame;
@@ -34,7 +52,7 @@ visualization_msgs::Marker deleteMarker(const std::string& frame, const std::str
 }  // namespace
 
 void TryonNode::publishMarkers(const TriMesh& body, const std::string& frame, const TriMesh* garment,
-                               const MatrixX3d* before) {
+                               const MatrixX3d* before, const std::vector<double>* strain) {
   visualization_msgs::MarkerArray array;
   array.markers.push_back(
       rc::toTriangleListMarker(body, frame, "body", 0, rgba(0.6f, 0.6f, 0.6f, 0.4f)));
@@ -42,8 +60,12 @@ void TryonNode::publishMarkers(const TriMesh& body, const std::string& frame, co
     array.markers.push_back(deleteMarker(frame, "garment", 1));
     array.markers.push_back(deleteMarker(frame, "moved", 2));
   } else {
-    array.markers.push_back(
-        rc::toTriangleListMarker(*garment, frame, "garment", 1, rgba(0.15f, 0.45f, 0.85f, 1.0f)));
+    std::vector<std_msgs::ColorRGBA> colours;
+    if (strain && strain->size() == static_cast<std::size_t>(garment->V.rows()))
+      for (double e : *strain) colours.push_back(strainColour(e));
+    array.markers.push_back(rc::toTriangleListMarker(*garment, frame, "garment", 1,
+                                                     rgba(0.15f, 0.45f, 0.85f, 1.0f),
+                                                     colours.empty() ? nullptr : &colours));
     if (before && before->rows() == garment->V.rows()) {
       // Moved vertices as points, blue (barely moved) to red (the largest move of this fit).
       const Eigen::VectorXd d = (garment->V - *before).rowwise().norm();

@@ -357,7 +357,11 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   fit.body = body.report;
   fit.resolve = res.report;
   publishFit(fit, res.garment);
-  publishMarkers(body.body->mesh(), body.frame, &garment, &before);
+  TriMesh input;  // the garment as it came, for the fit map's edge strain
+  input.V = before;
+  input.F = garment.F;
+  const std::vector<double> strain = vertexEdgeStrain(input, garment.V);
+  publishMarkers(body.body->mesh(), body.frame, &garment, &before, &strain);
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <virtual_tryon/BodyReport.h>
 #include <virtual_tryon/FitReport.h>
 
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <string>
@@ -174,6 +175,12 @@ TEST(DemoReplay, MarkersShowTheBodyTheGarmentAndTheMovedVertices) {
   EXPECT_LT(body->color.a, 1.0f);  // semi-transparent
   EXPECT_EQ(garment->type, visualization_msgs::Marker::TRIANGLE_LIST);
   EXPECT_GT(garment->points.size(), 300u);
+  // The fit map: a colour per triangle corner, by strain, not one colour for all.
+  ASSERT_EQ(garment->colors.size(), garment->points.size());
+  bool varies = false;
+  for (const auto& c : garment->colors)
+    varies = varies || std::abs(c.r - garment->colors[0].r) > 0.05f || std::abs(c.b - garment->colors[0].b) > 0.05f;
+  EXPECT_TRUE(varies) << "every corner has the same colour";
   // The points are the vertices the last fit's resolver moved, one each, coloured by distance.
   const auto resolve = collector->reports.at("resolve"), drape = collector->reports.at("drape");
   const auto last = resolve->header.stamp > drape->header.stamp ? resolve : drape;

@@ -10,6 +10,7 @@
 #include <visualization_msgs/Marker.h>
 
 #include <string>
+#include <vector>
 
 namespace virtual_tryon {
 namespace ros_conversions {
@@ -55,9 +56,12 @@ constexpr double kFloat32ExactRange = 8.0;
 // TriMesh -> TRIANGLE_LIST marker (one point per face corner, so 3 * #F points) in `frame_id`,
 // identity pose, scale 1, uniform `color`, stamp 0 (latest transform). Faces with an index
 // outside [0, #V) are skipped.
+// vertex_colors (#V, optional): a colour per mesh vertex, copied to every triangle corner (the
+// marker's `colors`); else `color` for all.
 visualization_msgs::Marker toTriangleListMarker(const TriMesh& mesh, const std::string& frame_id,
                                                 const std::string& ns, int id,
-                                                const std_msgs::ColorRGBA& color);
+                                                const std_msgs::ColorRGBA& color,
+                                                const std::vector<std_msgs::ColorRGBA>* vertex_colors = nullptr);
 
 }  // namespace ros_conversions
 }  // namespace virtual_tryon

@@ -166,9 +166,10 @@ class TryonNode {
   bool bodyFrame(const pcl_msgs::PolygonMesh& msg, std::string& frame, std::string& error) const;
 
   // publishing.cpp. `before` (#V by 3, may be empty): the garment's vertices before the fit, for
-  // the moved-vertex points.
+  // the moved-vertex points. `strain` (#V, may be empty): the fit map, the garment coloured by
+  // strain (blue 0 .. red kFitMapStrain and beyond), as `tryon render` draws it.
   void publishMarkers(const TriMesh& body, const std::string& frame, const TriMesh* garment,
-                      const MatrixX3d* before = nullptr);
+                      const MatrixX3d* before = nullptr, const std::vector<double>* strain = nullptr);
   void publishBody(const BodyState& body);
   void publishFit(const virtual_tryon::FitReport& report, const pcl_msgs::PolygonMesh& garment);
 
