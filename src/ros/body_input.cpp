@@ -4,9 +4,13 @@
 // comparison. The rest of the node is in tryon_node.cpp.
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/body/scan_meshing.h"
+#include "virtual_tryon/core/geometry/rigid_transform.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/report_conversions.h"
 #include "virtual_tryon/ros/tryon_node.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <tf2_eigen/tf2_eigen.h>
 
 #include <algorithm>
 #include <chrono>
@@ -155,8 +159,19 @@ void TryonNode::installBody(TriMesh mesh, const std::string& frame,
   for (const std::string& w : state.warnings) ROS_WARN_STREAM("tryon_node: " << w);
   ROS_INFO_STREAM("tryon_node: body from " << state.report.source << " in frame '" << frame
                                            << "': " << state.report.summary);
+  publishWorldTransform(state);
   publishBody(state);
   if (settings_.auto_fit) postFits();
+}
+
+void TryonNode::publishWorldTransform(const BodyState& state) {
+  if (settings_.world_frame.empty() || settings_.world_frame == state.frame) return;
+  geometry_msgs::TransformStamped t =
+      tf2::eigenToTransform(zUpWorldFromBody(state.body->mesh(), settings_.up_axis));
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = settings_.world_frame;
+  t.child_frame_id = state.frame;
+  world_tf_.sendTransform(t);
 }
 
 }  // namespace virtual_tryon

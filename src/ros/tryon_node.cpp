@@ -11,6 +11,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -160,6 +161,14 @@ void TryonNode::readParameters() {
   pnh_.param("scan/depth", settings_.scan.depth, sd.depth);
   pnh_.param("scan/max_auto_depth", settings_.scan.max_auto_depth, sd.max_auto_depth);
   pnh_.param("scan/uncertainty", settings_.scan_uncertainty, -1.0);
+  pnh_.param("world_frame", settings_.world_frame, std::string("world"));
+  std::string up;
+  pnh_.param("up_axis", up, std::string("y"));
+  const std::map<std::string, Eigen::Vector3d> axes = {
+      {"x", Eigen::Vector3d::UnitX()}, {"y", Eigen::Vector3d::UnitY()}, {"z", Eigen::Vector3d::UnitZ()},
+      {"-x", -Eigen::Vector3d::UnitX()}, {"-y", -Eigen::Vector3d::UnitY()}, {"-z", -Eigen::Vector3d::UnitZ()}};
+  if (axes.count(up)) settings_.up_axis = axes.at(up);
+  else ROS_WARN_STREAM("tryon_node: ~up_axis '" << up << "' is not one of x, y, z, -x, -y, -z; using y");
   if (!std::isfinite(settings_.scan_uncertainty)) {
     ROS_WARN("tryon_node: ~scan/uncertainty is not finite; using -1 (the scan's error)");
     settings_.scan_uncertainty = -1;

@@ -38,6 +38,7 @@
 #include <ros/ros.h>
 #include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <virtual_tryon/ResolvePenetration.h>
 
@@ -64,6 +65,8 @@ class TryonNode {
     DrapeParams drape;  // its resolver part is `resolver`
     ScanMeshingParams scan;
     double scan_uncertainty = -1;  // m: a scanned body's uncertainty; < 0: its error's p95
+    std::string world_frame = "world";  // z-up world the body frame is placed in ("" = none)
+    Eigen::Vector3d up_axis{0, 1, 0};   // the body mesh's up axis (~up_axis: x, y, z, -x, -y, -z)
     MeshLimits limits;        // refused before allocation: ~max_vertices, ~max_faces
     double tf_timeout = 0.5;  // seconds
     std::string body_frame;   // "" = the body message's frame_id (fallback "body")
@@ -171,6 +174,9 @@ class TryonNode {
   void publishMarkers(const TriMesh& body, const std::string& frame, const TriMesh* garment,
                       const MatrixX3d* before = nullptr, const std::vector<double>* strain = nullptr);
   void publishBody(const BodyState& body);
+  // body_input.cpp: the static transform from the z-up ~world_frame to the body's frame
+  // (zUpWorldFromBody with ~up_axis), so that rviz shows the body standing (REP 103).
+  void publishWorldTransform(const BodyState& body);
   void publishFit(const virtual_tryon::FitReport& report, const pcl_msgs::PolygonMesh& garment);
 
   ros::NodeHandle nh_, pnh_;
@@ -178,6 +184,7 @@ class TryonNode {
 
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
+  tf2_ros::StaticTransformBroadcaster world_tf_;  // world -> body frame, sent with each new body
 
   ros::Subscriber body_sub_, scan_sub_, garment_sub_, pattern_sub_;
   ros::Publisher fitted_pub_, markers_pub_, body_pub_, body_report_pub_, fit_report_pub_;
