@@ -351,6 +351,19 @@ TEST(Cloth, LaterStagesPullOnlyOnceEarlierSeamsAreWelded) {
   EXPECT_EQ(cloth.mesh().V.rows(), 3 * n - 6);
 }
 
+namespace {
+
+// The largest structural spring length over rest length.
+double maxLength(const ClothState& c) {
+  double worst = 0;
+  for (const Spring& s : c.springs())
+    if (s.type == SpringType::Structural)
+      worst = std::max(worst, (c.positions().row(s.b) - c.positions().row(s.a)).norm() / s.rest);
+  return worst;
+}
+
+}  // namespace
+
 // The collision hook runs after the velocity fix and may stretch the cloth again (a garment on a
 // cone pushed out along the body normals); once the seams are closed the fix runs again after it.
 TEST(Cloth, VelocityFixHasTheLastWordAfterTheCollisionHook) {
@@ -364,13 +377,6 @@ TEST(Cloth, VelocityFixHasTheLastWordAfterTheCollisionHook) {
     // Every node moves away from the grid's centre in x: it stretches every x spring.
     const double cx = x.col(0).mean();
     for (Eigen::Index i = 0; i < x.rows(); ++i) v(i, 0) = x(i, 0) > cx ? 1.0 : (x(i, 0) < cx ? -1.0 : 0.0);
-  };
-  auto maxLength = [](const ClothState& c) {
-    double worst = 0;
-    for (const Spring& s : c.springs())
-      if (s.type == SpringType::Structural)
-        worst = std::max(worst, (c.positions().row(s.b) - c.positions().row(s.a)).norm() / s.rest);
-    return worst;
   };
   ClothState draping(mesh, p);
   draping.setVelocityHook(stretchingHook);
@@ -392,13 +398,6 @@ TEST(Cloth, VelocityFixHasTheLastWordAfterTheCollisionHook) {
 TEST(Cloth, StrainRestoreContractsOverLongSpringsTheFixAloneHolds) {
   ClothMesh mesh = gridCloth(5, 0.04);
   mesh.X.col(0) *= 1.3;  // structural x springs 30% long
-  auto maxLength = [](const ClothState& c) {
-    double worst = 0;
-    for (const Spring& s : c.springs())
-      if (s.type == SpringType::Structural)
-        worst = std::max(worst, (c.positions().row(s.b) - c.positions().row(s.a)).norm() / s.rest);
-    return worst;
-  };
   ClothParams p;
   p.gravity.setZero();
   p.k_structural = 0;  // no elastic pull back: only the correction can shorten a spring

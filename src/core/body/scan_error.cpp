@@ -69,12 +69,19 @@ ScanNoiseEstimate estimateScanNoise(const MatrixX3d& points, std::size_t max_sam
   try {
     const std::vector<Eigen::Index> rows = finiteRows(points);
     if (rows.size() < static_cast<std::size_t>(k) + 1) return est;
-    pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+    // PointNormal, the point type scan_meshing.cpp already uses: a PointCloud<PointXYZ> made here
+    // would share its template code with libpcl_io's own (STL files), compiled for another Eigen
+    // alignment, and the two would free each other's points (AddressSanitizer saw it).
+    pcl::PointCloud<pcl::PointNormal>::Ptr cloud(new pcl::PointCloud<pcl::PointNormal>);
     cloud->reserve(rows.size());
-    for (Eigen::Index i : rows)
-      cloud->push_back(pcl::PointXYZ(static_cast<float>(points(i, 0)), static_cast<float>(points(i, 1)),
-                                     static_cast<float>(points(i, 2))));
-    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+    for (Eigen::Index i : rows) {
+      pcl::PointNormal p;
+      p.x = static_cast<float>(points(i, 0)), p.y = static_cast<float>(points(i, 1));
+      p.z = static_cast<float>(points(i, 2));
+      p.normal_x = p.normal_y = 0, p.normal_z = 1, p.curvature = 0;
+      cloud->push_back(p);
+    }
+    pcl::KdTreeFLANN<pcl::PointNormal> tree;
     tree.setInputCloud(cloud);
     pcl::Indices idx;
     std::vector<float> d2;
