@@ -90,6 +90,7 @@ vtkSmartPointer<vtkScalarBarActor> strainBar(vtkLookupTable* lut, double scale) 
   (void)scale;
   bar->SetTitle("strain");
   bar->SetNumberOfLabels(4);
+  bar->SetLabelFormat("%.2f");
   bar->SetOrientationToHorizontal();
   bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
   bar->GetPositionCoordinate()->SetValue(0.15, 0.01);
