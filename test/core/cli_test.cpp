@@ -71,6 +71,12 @@ TEST(Cli, BadInputExitsTwo) {
   EXPECT_EQ(runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/body.obj --out " + dir +
                    "/o.obj --max-iterations abc").code, 2);
   EXPECT_EQ(runCli("frobnicate").code, 2);
+  const CliRun negative = runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/body.obj --out " + dir +
+                                     "/o.obj --body-uncertainty -0.001",
+                                 dir + "/negative.err");
+  EXPECT_EQ(negative.code, 2);
+  EXPECT_NE(negative.err.find("--body-uncertainty must be >= 0"), std::string::npos) << negative.err;
+  EXPECT_EQ(runCli("render --body " + dir + "/body.obj --garment " + dir + "/missing.obj --out " + dir + "/r").code, 2);
   std::ofstream(dir + "/nan.obj") << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
   EXPECT_EQ(runCli("resolve --body " + dir + "/body.obj --garment " + dir + "/nan.obj --out " + dir + "/o.obj").code, 2);
   EXPECT_EQ(runCli("--help").code, 0);
