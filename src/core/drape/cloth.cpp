@@ -420,12 +420,23 @@ double ClothState::maxSpeed() const {
   return v_.rows() ? std::sqrt(v_.rowwise().squaredNorm().maxCoeff()) : 0.0;
 }
 
+namespace {
+
+// |l / l0 - 1| of a structural spring of non-zero rest length with its nodes at x; false for others.
+bool structuralStrain(const Spring& sp, const MatrixX3d& x, double& e) {
+  if (sp.type != SpringType::Structural || !(sp.rest > 0)) return false;
+  e = std::abs((x.row(sp.b) - x.row(sp.a)).norm() / sp.rest - 1.0);
+  return true;
+}
+
+}  // namespace
+
 void ClothState::strain(double& maxStrain, double& meanStrain) const {
   maxStrain = meanStrain = 0;
   std::size_t n = 0;
   for (const Spring& sp : springs_) {
-    if (sp.type != SpringType::Structural || !(sp.rest > 0)) continue;
-    const double e = std::abs((x_.row(sp.b) - x_.row(sp.a)).norm() / sp.rest - 1.0);
+    double e = 0;
+    if (!structuralStrain(sp, x_, e)) continue;
     maxStrain = std::max(maxStrain, e);
     meanStrain += e;
     ++n;
@@ -436,8 +447,8 @@ void ClothState::strain(double& maxStrain, double& meanStrain) const {
 std::vector<double> ClothState::nodeStrain(const MatrixX3d& x) const {
   std::vector<double> strain(static_cast<std::size_t>(x.rows()), 0.0);
   for (const Spring& sp : springs_) {
-    if (sp.type != SpringType::Structural || !(sp.rest > 0) || sp.a >= x.rows() || sp.b >= x.rows()) continue;
-    const double e = std::abs((x.row(sp.b) - x.row(sp.a)).norm() / sp.rest - 1.0);
+    double e = 0;
+    if (sp.a >= x.rows() || sp.b >= x.rows() || !structuralStrain(sp, x, e)) continue;
     strain[static_cast<std::size_t>(sp.a)] = std::max(strain[static_cast<std::size_t>(sp.a)], e);
     strain[static_cast<std::size_t>(sp.b)] = std::max(strain[static_cast<std::size_t>(sp.b)], e);
   }
