@@ -106,13 +106,6 @@ Timing timeRuns(int runs, const std::function<void()>& f);
 // A tight top round the procedural body's torso, as a learned model might predict it: the body
 // surface meshed again at `resolution`, moved out along its normals by 3 mm plus waves of +-12 mm
 // (so the troughs dip up to 9 mm in), cut to the band between the hips and below the armpits.
-struct BodyScene {
-  vt::TriMesh body, garment;
-};
-BodyScene proceduralTopScene(double bodyResolution, double garmentResolution);
-
-// Largest connected piece of the faces of `mesh` kept by `keep(face)`, unused vertices dropped.
-vt::TriMesh largestPiece(const vt::TriMesh& mesh, const std::function<bool(int)>& keep);
 
 // Section entry points.
 void resolverSection(const Options& o);

@@ -2,6 +2,7 @@
 // same process. Errors come from the independent referee (reference_bvh.h), never from the
 // resolver's own detector.
 #include "common.h"
+#include "virtual_tryon/core/scenes/procedural_top.h"
 
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/io/mesh_io.h"
@@ -30,7 +31,7 @@ std::vector<NamedScene> resolverScenes(const Options& o) {
                     vt::makeSphere(0.1, Eigen::Vector3d::Zero(), 4),
                     vt::makePatch(0.12, 0.12, 24, 24, Eigen::Vector3d(0.003, 0.08, -0.002))});
   {
-    BodyScene s = proceduralTopScene(o.quick ? 0.02 : 0.015, o.quick ? 0.03 : 0.02);
+    vt::ResolveScene s = vt::makeProceduralTopScene(o.quick ? 0.02 : 0.015, o.quick ? 0.03 : 0.02);
     scenes.push_back({"procedural_top", "procedural",
                       "procedural body; a top from its own surface moved out 3 mm +- 12 mm waves (dips 9 mm in)",
                       s.body, s.garment});

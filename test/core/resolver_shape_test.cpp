@@ -6,6 +6,7 @@
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/scenes/demo_scene.h"
 #include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_top.h"
 #include "virtual_tryon/testing/push_out_baseline.h"
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_shape.h"
@@ -83,6 +84,13 @@ TEST(ResolverShape, PatchThroughTheTopOfASphere) {
   // is intrinsic; the paper's rounds alone stretch single edges by more than 90%.
   expectShapeTargets("patch on sphere", makeSphere(0.1, Eigen::Vector3d::Zero(), 4),
                      makePatch(0.12, 0.12, 24, 24, Eigen::Vector3d(0.003, 0.08, -0.002)));
+}
+
+TEST(ResolverShape, TopWithSliverEdgesOnTheProceduralBody) {
+  // A top cut from the body's own marching-tetrahedra surface, folded 1 cm into it: edges a
+  // fraction of a millimetre long, which the paper's rounds stretch about 15 times over.
+  const ResolveScene s = makeProceduralTopScene(0.02, 0.03);
+  expectShapeTargets("procedural top", s.body, s.garment);
 }
 
 TEST(ResolverShape, NothingToResolveMeansNothingMoves) {

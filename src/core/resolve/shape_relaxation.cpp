@@ -5,8 +5,11 @@
 #include "core/resolve/resolver_run.h"
 
 #include <algorithm>
+#include <Eigen/Geometry>
+
 #include <array>
 #include <chrono>
+#include <limits>
 #include <unordered_set>
 #include <vector>
 
@@ -17,6 +20,8 @@ using Clock = std::chrono::steady_clock;
 constexpr int kMaxRevertPasses = 64;
 constexpr int kMaxWalkSteps = 16;
 constexpr int kContactPasses = 3;
+constexpr int kRotationIterations = 8;
+constexpr int kPolishRounds = 3;
 // A contact whose movable corners carry less weight than this is left to the step back (moving
 // them would lever them far out).
 constexpr double kMinContactWeight = 0.25;
@@ -38,8 +43,10 @@ class ShapeRelaxation {
     for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
       if (p_.time_budget > 0 && seconds(t0) >= p_.time_budget) break;
       sweep_ = s;
-      if (s % perCheck == 0)
+      if (s % perCheck == 0) {
         for (int v : active_) clean_[v] = g_.V.row(v);
+        if (p_.local_rotations) updateRotations();
+      }
       rep_.last_step = sweep();
       if (p_.strain_limit > 0) limitStrain();
       projectContacts();
@@ -49,10 +56,17 @@ class ShapeRelaxation {
       if (settled) break;
     }
     // Every vertex that moved, checked once more however little it moved since its last check;
-    // should that leave a crossing, the resolver's own clean state is kept.
-    if (!active_.empty() && !verify(0)) {
-      for (int v : active_) g_.V.row(v) = start_[v];
-      rep_.clean = false;
+    // should that leave a crossing, the resolver's own clean state is kept. A step back in that
+    // check can tear an edge again: then the polish and the check once more.
+    for (int round = 0; round < kPolishRounds && !active_.empty(); ++round) {
+      polish();
+      const std::size_t stepsBefore = rep_.steps_back;
+      if (!verify(0)) {
+        for (int v : active_) g_.V.row(v) = start_[v];
+        rep_.clean = false;
+        break;
+      }
+      if (rep_.steps_back == stepsBefore) break;
     }
     rep_.active_vertices = active_.size();
     rep_.contacts = contacts_.size();
@@ -103,6 +117,8 @@ class ShapeRelaxation {
     exact_at_.resize(clean_.size());
     floor_.assign(clean_.size(), d_);
     held_.assign(clean_.size(), 0);
+    quat_.assign(clean_.size(), Eigen::Quaterniond::Identity());
+    rot_.assign(clean_.size(), Eigen::Matrix3d::Identity());
   }
 
   // The tangent plane of the body at the nearest point to x; outside a ridge the direction from
@@ -171,10 +187,7 @@ class ShapeRelaxation {
     double largest = 0;
     for (int v : active_) {
       if (held_[v] > sweep_) continue;
-      Eigen::RowVector3d u = Eigen::RowVector3d::Zero();
-      for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) u += g_.V.row(graph_.adj_v[i]) - in_.V.row(graph_.adj_v[i]);
-      u /= static_cast<double>(graph_.adj_start[v + 1] - graph_.adj_start[v]) + p_.mu;
-      Eigen::Vector3d x = (in_.V.row(v) + u).transpose();
+      Eigen::Vector3d x = target(v);
       x = g_.V.row(v).transpose() + p_.over_relaxation * (x - g_.V.row(v).transpose());
       if ((x - plane_at_[v]).norm() > p_.replane_distance) takePlane(v, x);
       const double sd = (x - plane_point_[v]).dot(plane_normal_[v]);
@@ -185,11 +198,63 @@ class ShapeRelaxation {
     return largest;
   }
 
+  // After the sweeps: edges strained beyond `polish_strain` are brought back to it, held vertices
+  // too (a step back near the end leaves single edges torn between a vertex that stepped back and
+  // one that did not), the contacts kept, each pass checked for crossings like a sweep.
+  void polish() {
+    sweep_ = std::numeric_limits<int>::max() / 2;  // nothing is held any more
+    for (int pass = 0; pass < p_.polish_passes && !active_.empty(); ++pass) {
+      for (int v : active_) clean_[v] = g_.V.row(v);
+      limitStrain(p_.polish_strain);
+      projectContacts();
+      verify(p_.check_distance);
+    }
+  }
+
+  // Where vertex v's neighbours put it: the mean over neighbours j of x_j plus the input edge
+  // vector (x0_v - x0_j), turned by the mean of both ends' rotations, and a pull mu to the input.
+  Eigen::Vector3d target(int v) const {
+    const Eigen::Vector3d x0 = in_.V.row(v).transpose();
+    Eigen::Vector3d sum = p_.mu * x0;
+    const bool turn = p_.local_rotations;
+    for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
+      const int j = graph_.adj_v[i];
+      const Eigen::Vector3d e0 = x0 - in_.V.row(j).transpose();
+      sum += g_.V.row(j).transpose() + (turn ? Eigen::Vector3d(0.5 * (rot_[v] + rot_[j]) * e0) : e0);
+    }
+    return sum / (static_cast<double>(graph_.adj_start[v + 1] - graph_.adj_start[v]) + p_.mu);
+  }
+
+  // Each active vertex's rotation: the one that best turns its input edge vectors into the
+  // current ones (ARAP's local step), by the warm-started iteration of Mueller et al. 2016 ("A
+  // robust method to extract the rotational part of deformations").
+  void updateRotations() {
+    for (int v : active_) {
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      const Eigen::Vector3d x = g_.V.row(v).transpose(), x0 = in_.V.row(v).transpose();
+      for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
+        const int j = graph_.adj_v[i];
+        A += (x - g_.V.row(j).transpose()) * (x0 - in_.V.row(j).transpose()).transpose();
+      }
+      Eigen::Quaterniond& q = quat_[v];
+      for (int it = 0; it < kRotationIterations; ++it) {
+        const Eigen::Matrix3d R = q.toRotationMatrix();
+        const Eigen::Vector3d omega = (R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2))) /
+                                      (std::abs(R.col(0).dot(A.col(0)) + R.col(1).dot(A.col(1)) + R.col(2).dot(A.col(2))) + 1e-12);
+        const double w = omega.norm();
+        if (!(w > 1e-9)) break;
+        q = Eigen::Quaterniond(Eigen::AngleAxisd(w, omega / w)) * q;
+        q.normalize();
+      }
+      rot_[v] = q.toRotationMatrix();
+    }
+  }
+
   // Edges longer than (1 + strain_limit) or shorter than (1 - strain_limit) times their input length
   // are brought back to that bound, each end moving half (a held or inactive end not at all), then
   // each moved end goes back onto its half-space.
-  void limitStrain() {
-    const double s = p_.strain_limit;
+  void limitStrain() { limitStrain(p_.strain_limit); }
+  void limitStrain(double s) {
     for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
       const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
       const bool ma = active_flag_[a] && held_[a] <= sweep_, mb = active_flag_[b] && held_[b] <= sweep_;
@@ -348,16 +413,17 @@ class ShapeRelaxation {
     return exact_distance_[v] - (g_.V.row(v).transpose() - exact_at_[v]).norm();
   }
 
-  // True when garment face f cannot touch the body: every corner is farther from it than the
-  // face's longest edge (the distance to the body changes by at most the distance moved, and every
-  // point of the face lies within its longest edge of each corner).
+  // True when garment face f cannot touch the body: some corner is farther from the body than
+  // from every point of the face (its two edges' lengths bound that; the distance to the body
+  // changes by at most the distance moved).
   bool clearOfBody(int f) const {
-    double longest = 0;
-    for (int k = 0; k < 3; ++k)
-      longest = std::max(longest, (g_.V.row(g_.F(f, k)) - g_.V.row(g_.F(f, (k + 1) % 3))).norm());
-    for (int k = 0; k < 3; ++k)
-      if (!(distanceBound(g_.F(f, k)) > longest)) return false;
-    return true;
+    for (int k = 0; k < 3; ++k) {
+      const int c = g_.F(f, k);
+      const double reach = std::max((g_.V.row(c) - g_.V.row(g_.F(f, (k + 1) % 3))).norm(),
+                                    (g_.V.row(c) - g_.V.row(g_.F(f, (k + 2) % 3))).norm());
+      if (distanceBound(c) > reach) return true;
+    }
+    return false;
   }
 
   struct Contact {
@@ -392,6 +458,8 @@ class ShapeRelaxation {
   std::vector<double> exact_distance_;     // per vertex: at its last query through the body's tree
   std::vector<Eigen::Vector3d> exact_at_;  // and where it was then
   std::vector<int> bvf_start_, bvf_;  // the body's faces round each body vertex
+  std::vector<Eigen::Quaterniond> quat_;  // per vertex: its local rotation (identity when inactive)
+  std::vector<Eigen::Matrix3d> rot_;
 };
 
 }  // namespace

@@ -49,7 +49,15 @@ struct ShapeRelaxationParams {
   // After each sweep, edges strained past this (|l / l0 - 1|) are brought back to it (position-
   // based, both ends sharing the correction); 0: off.
   double strain_limit = 0.1;
+  // Compare each edge with its input vector turned by its ends' local rotations (as-rigid-as-
+  // possible), so that the garment may bend round the body and only stretch costs; false: with the
+  // input vector as it is.
+  bool local_rotations = true;
   int hold_sweeps = 6;            // a vertex that stepped back rests for this many sweeps
+  // After the sweeps, this many passes bring every edge strained beyond polish_strain back to it
+  // (vertices that stepped back too), each checked like a sweep; 0: none.
+  int polish_passes = 5;
+  double polish_strain = 0.2;
   double time_budget = 0;         // s, 0: none
 };
 
