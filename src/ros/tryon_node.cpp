@@ -124,7 +124,7 @@ std::string TryonNode::frameOf(const pcl_msgs::PolygonMesh& msg) {
 }
 
 // ~objective: "smooth" (default: the rounds, then the shape relaxation) or "paper" (the rounds
-// alone); ~relaxation/max_sweeps and ~relaxation/strain_limit tune the relaxation.
+// alone); ~relaxation/max_sweeps, strain_limit, local_rotations and polish_strain tune the relaxation.
 void TryonNode::readObjective(ResolverParams& p) {
   const ResolverParams d;
   std::string objective;
@@ -139,6 +139,9 @@ void TryonNode::readObjective(ResolverParams& p) {
   }
   p.relaxation.max_sweeps = readCount(pnh_, "relaxation/max_sweeps", d.relaxation.max_sweeps);
   p.relaxation.strain_limit = readDouble(pnh_, "relaxation/strain_limit", d.relaxation.strain_limit, false);
+  pnh_.param("relaxation/local_rotations", p.relaxation.local_rotations, d.relaxation.local_rotations);
+  p.relaxation.polish_strain = readDouble(pnh_, "relaxation/polish_strain", d.relaxation.polish_strain, false);
+  if (p.relaxation.polish_strain == 0) p.relaxation.polish_passes = 0;
 }
 
 void TryonNode::readParameters() {

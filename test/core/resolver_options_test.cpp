@@ -303,3 +303,60 @@ TEST(ResolverOptions, BodyUncertaintyClearsAPenetratingGarmentByTheWholeClearanc
   EXPECT_EQ(c.vertices_inside, 0u);
   EXPECT_GE(leastDistance(s.body, garment), r.clearance - 1e-9);
 }
+
+namespace {
+
+// The least distance from the points of `garment`'s faces (a 12 x 12 barycentric grid on each,
+// corners included) to the analytic sphere of radius r about the origin.
+double leastFaceDistanceToSphere(const TriMesh& garment, double r) {
+  double least = 1e30;
+  const int n = 12;
+  for (Eigen::Index f = 0; f < garment.F.rows(); ++f)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double a = double(i) / n, b = double(j) / n;
+        const V3 p = (1 - a - b) * garment.V.row(garment.F(f, 0)).transpose() +
+                     a * garment.V.row(garment.F(f, 1)).transpose() + b * garment.V.row(garment.F(f, 2)).transpose();
+        least = std::min(least, p.norm() - r);
+      }
+  return least;
+}
+
+}  // namespace
+
+TEST(ResolverOptions, BodyUncertaintyKeepsTheMiddleOfALargeFaceOutToo) {
+  // One 6 cm quad (two triangles) over the top of a 10 cm sphere: its middle 2 mm above the top,
+  // its corners 10.5 mm out. With d = 1 mm and u = 3 mm no corner is nearer than d + u, and still
+  // the face's middle, over the bulge, must clear the sphere by 4 mm (a garment face wider than
+  // the body's faces). Judged against the analytic sphere, which the mesh's vertices lie on.
+  const double r = 0.1;
+  const TriMesh sphere = makeSphere(r, V3::Zero(), 4);
+  Body b(sphere);
+  TriMesh quad;
+  quad.V.resize(4, 3);
+  quad.V << -0.03, 0.102, -0.03, 0.03, 0.102, 0.03, 0.03, 0.102, -0.03, -0.03, 0.102, 0.03;
+  quad.F.resize(2, 3);
+  quad.F << 0, 3, 1, 0, 1, 2;
+  ASSERT_LT(leastFaceDistanceToSphere(quad, r), 0.0021);
+  ASSERT_GT(leastDistance(sphere, quad), 0.01);
+
+  ResolverParams params;
+  params.clearance = 0.001;
+  params.body_uncertainty = 0.003;
+  TriMesh garment = quad;
+  const ResolverReport rep = resolvePenetrations(b, garment, params);
+  ASSERT_TRUE(rep.converged) << rep.reason;
+  EXPECT_EQ(rep.near_vertices_pushed, 4u);  // lifted with their face
+  // The sphere bulges above its mesh's faces by at most about 0.15 mm between vertices.
+  const double least = leastFaceDistanceToSphere(garment, r);
+  EXPECT_GE(least, 0.004 - 0.0003);
+  EXPECT_LT(least, 0.004 + 0.001) << "lifted farther than asked";
+
+  // Without the face clearance nothing is near enough to move.
+  params.relaxation.face_clearance = -1;
+  TriMesh cornersOnly = quad;
+  const ResolverReport off = resolvePenetrations(b, cornersOnly, params);
+  ASSERT_TRUE(off.converged);
+  EXPECT_EQ(off.moved_vertices, 0u);
+  EXPECT_LT(leastFaceDistanceToSphere(cornersOnly, r), 0.0021);
+}

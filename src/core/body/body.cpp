@@ -28,6 +28,13 @@ void Body::buildAdjacency() const {
   });
 }
 
+void Body::buildVertexAdjacency() const {
+  std::call_once(vertex_adjacency_once_, [this] {
+    facesRoundVertices(mesh_.F, static_cast<int>(mesh_.V.rows()), vertex_face_start_, vertex_faces_);
+    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
+  });
+}
+
 Body::~Body() = default;
 
 const BodyBVH& Body::bvh() const {

@@ -11,6 +11,9 @@ namespace virtual_tryon {
 namespace resolver_run {
 namespace {
 
+// Passes of the face-middle lift before the rounds (each face clearance projected in turn).
+constexpr int kFaceLiftPasses = 2;
+
 // Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
 std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
   std::vector<double> s;
@@ -430,14 +433,47 @@ void ResolverRun::pushOutNearVertices() {
   if (budgetSpent()) return;
   const double t0 = clock_.now();
   movedList_.clear();
+  std::vector<double> distance(static_cast<std::size_t>(nv_));
   for (int v = 0; v < nv_; ++v) {
     const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+    distance[v] = cp.distance;
     if ((insideTest_ && inside_[v]) || cp.distance < d_) {
       pushTo(v, cp);
+      distance[v] = d_;
       ++rep_.near_vertices_pushed;
     }
   }
+  if (params_.relaxation.face_clearance >= 0) liftFaceMiddles(distance);
   finishPushOut(t0, false);
+}
+
+// The faces whose middle passes nearer to the body than the clearance (face_clearance.h), their
+// corners lifted together along the body vertex's normal until it clears; a face with a corner
+// farther from the body than the clearance plus the face's reach from it is skipped.
+void ResolverRun::liftFaceMiddles(const std::vector<double>& distance) {
+  std::vector<FaceClearance> found;
+  for (Eigen::Index f = 0; f < garment_.F.rows(); ++f) {
+    bool clear = false;
+    for (int k = 0; k < 3 && !clear; ++k) {
+      const int c = garment_.F(f, k);
+      const double reach = std::max((garment_.V.row(c) - garment_.V.row(garment_.F(f, (k + 1) % 3))).norm(),
+                                    (garment_.V.row(c) - garment_.V.row(garment_.F(f, (k + 2) % 3))).norm());
+      clear = distance[c] > reach + d_;
+    }
+    if (!clear) faceClearances(body_, garment_, static_cast<int>(f), d_, found);
+  }
+  std::vector<char> lifted(static_cast<std::size_t>(nv_), 0);
+  for (int pass = 0; pass < kFaceLiftPasses; ++pass)
+    for (const FaceClearance& k : found) {
+      const double shortBy = shortfall(k, garment_);
+      if (!(shortBy > 0)) continue;
+      for (int i = 0; i < 3; ++i) {
+        const int v = garment_.F(k.face, i);
+        moveVertex(v, garment_.V.row(v) + shortBy * k.normal.transpose());
+        if (!lifted[v] && distance[v] > d_) ++rep_.near_vertices_pushed;  // not pushed before
+        lifted[v] = 1;
+      }
+    }
 }
 
 bool ResolverRun::decideStop() {
@@ -563,6 +599,7 @@ bool ResolverRun::relaxShape() {
     if (left <= 0) return false;
     relaxation.time_budget = relaxation.time_budget > 0 ? std::min(relaxation.time_budget, left) : left;
   }
+  if (params_.body_uncertainty > 0 && relaxation.face_clearance == 0) relaxation.face_clearance = d_;
   const double t0 = clock_.now();
   rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
   rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation);

@@ -14,6 +14,7 @@
 // the displacement statistics up to date.
 #pragma once
 
+#include "core/resolve/face_clearance.h"
 #include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/impact_zones.h"
 #include "virtual_tryon/core/resolve/intersections.h"
@@ -86,6 +87,7 @@ class ResolverRun {
   // body_uncertainty > 0: every vertex inside the body or nearer to it than the clearance goes to
   // its nearest body point plus the clearance (before the rounds).
   void pushOutNearVertices();
+  void liftFaceMiddles(const std::vector<double>& distance);
   // The stop checks before a round (iteration limit, stall, budget); true to stop, in the best state.
   bool decideStop();
   // One round; false when it moved nothing (the run stops, in the best state).

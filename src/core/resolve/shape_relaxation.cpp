@@ -2,6 +2,7 @@
 
 #include "virtual_tryon/core/geometry/point_queries.h"
 
+#include "core/resolve/face_clearance.h"
 #include "core/resolve/resolver_run.h"
 
 #include <algorithm>
@@ -21,6 +22,7 @@ constexpr int kMaxRevertPasses = 64;
 constexpr int kMaxWalkSteps = 16;
 constexpr int kContactPasses = 3;
 constexpr int kRotationIterations = 8;
+constexpr double kRotationTolerance = 1e-6;  // rad: a rotation fit stops when its step is below this
 constexpr int kPolishRounds = 3;
 // A contact whose movable corners carry less weight than this is left to the step back (moving
 // them would lever them far out).
@@ -36,7 +38,6 @@ class ShapeRelaxation {
   ShapeRelaxationReport run() {
     const auto t0 = Clock::now();
     chooseActive();
-    if (!active_.empty()) buildBodyCorners();  // nothing moved: no table of the body's corners
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
     const int perCheck = std::max(1, p_.sweeps_per_check);
@@ -60,13 +61,14 @@ class ShapeRelaxation {
     // check can tear an edge again: then the polish and the check once more.
     for (int round = 0; round < kPolishRounds && !active_.empty(); ++round) {
       polish();
-      const std::size_t stepsBefore = rep_.steps_back;
+      const std::size_t stepsBefore = rep_.steps_back, contactsBefore = contacts_.size();
       if (!verify(0)) {
         for (int v : active_) g_.V.row(v) = start_[v];
         rep_.clean = false;
         break;
       }
-      if (rep_.steps_back == stepsBefore) break;
+      const bool added = p_.face_clearance > 0 && addFaceClearanceContacts() > 0;
+      if (rep_.steps_back == stepsBefore && contacts_.size() == contactsBefore && !added) break;
     }
     rep_.active_vertices = active_.size();
     rep_.contacts = contacts_.size();
@@ -77,10 +79,6 @@ class ShapeRelaxation {
  private:
   static double seconds(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-  }
-
-  void buildBodyCorners() {
-    facesRoundVertices(body_.mesh().F, static_cast<int>(body_.mesh().V.rows()), bvf_start_, bvf_);
   }
 
 
@@ -149,6 +147,8 @@ class ShapeRelaxation {
 
   Eigen::Vector3d walkToNearest(const Eigen::Vector3d& x, int& face) const {
     const TriMesh& B = body_.mesh();
+    const std::vector<int>& bvfStart = body_.vertexFaceStart();
+    const std::vector<int>& bvf = body_.vertexFaces();
     auto nearestOn = [&](int f) {
       return closestPointOnTriangle(x, B.V.row(B.F(f, 0)).transpose(), B.V.row(B.F(f, 1)).transpose(),
                                     B.V.row(B.F(f, 2)).transpose());
@@ -159,13 +159,13 @@ class ShapeRelaxation {
       const int from = face;
       for (int k = 0; k < 3; ++k) {
         const int c = B.F(from, k);
-        for (int i = bvf_start_[c]; i < bvf_start_[c + 1]; ++i) {
-          const Eigen::Vector3d q = nearestOn(bvf_[i]);
+        for (int i = bvfStart[c]; i < bvfStart[c + 1]; ++i) {
+          const Eigen::Vector3d q = nearestOn(bvf[i]);
           const double dq = (q - x).squaredNorm();
           if (dq < bestD) {
             bestD = dq;
             best = q;
-            face = bvf_[i];
+            face = bvf[i];
           }
         }
       }
@@ -203,9 +203,9 @@ class ShapeRelaxation {
   // one that did not), the contacts kept, each pass checked for crossings like a sweep.
   void polish() {
     sweep_ = std::numeric_limits<int>::max() / 2;  // nothing is held any more
-    for (int pass = 0; pass < p_.polish_passes && !active_.empty(); ++pass) {
+    for (int pass = 0; pass < std::max(1, p_.polish_passes) && !active_.empty(); ++pass) {
       for (int v : active_) clean_[v] = g_.V.row(v);
-      limitStrain(p_.polish_strain);
+      if (p_.polish_passes > 0) limitStrain(p_.polish_strain);
       projectContacts();
       verify(p_.check_distance);
     }
@@ -242,8 +242,11 @@ class ShapeRelaxation {
         const Eigen::Vector3d omega = (R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2))) /
                                       (std::abs(R.col(0).dot(A.col(0)) + R.col(1).dot(A.col(1)) + R.col(2).dot(A.col(2))) + 1e-12);
         const double w = omega.norm();
-        if (!(w > 1e-9)) break;
-        q = Eigen::Quaterniond(Eigen::AngleAxisd(w, omega / w)) * q;
+        if (!(w > kRotationTolerance)) break;
+        // A small turn by its first-order quaternion (no sine or cosine), a large one exactly.
+        const Eigen::Quaterniond dq = w < 0.1 ? Eigen::Quaterniond(1, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
+                                              : Eigen::Quaterniond(Eigen::AngleAxisd(w, omega / w));
+        q = dq * q;
         q.normalize();
       }
       rot_[v] = q.toRotationMatrix();
@@ -289,7 +292,7 @@ class ShapeRelaxation {
     std::vector<int> check, stepped;
     for (int v : active_) {
       const double moved = (g_.V.row(v) - checked_[v]).norm();
-      if (moved > distance || (distance == 0 && g_.V.row(v) != start_[v])) check.push_back(v);
+      if (moved > distance || (distance == 0 && moved > 0)) check.push_back(v);
     }
     stepping_.assign(static_cast<std::size_t>(nv_), 0);
     const int passes = p_.bisections + 1 + kMaxRevertPasses;
@@ -353,7 +356,7 @@ class ShapeRelaxation {
   }
 
   static long long contactKey(int kind, int edge, int face) {
-    return (static_cast<long long>(edge) << 32 | static_cast<unsigned>(face)) * 2 + kind;
+    return (static_cast<long long>(edge) << 32 | static_cast<unsigned>(face)) * 3 + kind;
   }
 
   // Each contact short of its bound moves its movable vertices together along its normal, by the
@@ -390,6 +393,14 @@ class ShapeRelaxation {
   }
 
   void detectAround(const std::vector<int>& vertices, CrossingSet& found) {
+    facesAround(vertices, 0.0);
+    if (faces_.empty()) return;
+    detectCrossings(body_, g_, topo_, found, &faces_);
+    ++rep_.detections;
+  }
+
+  // faces_: the faces round `vertices` that may come within `margin` of the body, sorted.
+  void facesAround(const std::vector<int>& vertices, double margin) {
     faces_.clear();
     face_mark_.resize(static_cast<std::size_t>(g_.F.rows()), 0);
     for (int v : vertices)
@@ -399,11 +410,30 @@ class ShapeRelaxation {
           faces_.push_back(graph_.vf[i]);
         }
     for (int f : faces_) face_mark_[f] = 0;
-    faces_.erase(std::remove_if(faces_.begin(), faces_.end(), [&](int f) { return clearOfBody(f); }), faces_.end());
-    if (faces_.empty()) return;
+    faces_.erase(std::remove_if(faces_.begin(), faces_.end(), [&](int f) { return clearOfBody(f, margin); }), faces_.end());
     std::sort(faces_.begin(), faces_.end());
-    detectCrossings(body_, g_, topo_, found, &faces_);
-    ++rep_.detections;
+  }
+
+  // The face clearances (face_clearance.h) of the faces round the active vertices, each a contact
+  // that every later pass keeps. Returns how many were added.
+  std::size_t addFaceClearanceContacts() {
+    const std::size_t before = contacts_.size();
+    facesAround(active_, p_.face_clearance);
+    std::vector<resolver_run::FaceClearance> found;
+    for (int f : faces_) resolver_run::faceClearances(body_, g_, f, p_.face_clearance, found);
+    for (const resolver_run::FaceClearance& c : found) {
+      if (!contact_keys_.insert(contactKey(2, c.body_vertex, c.face)).second) continue;
+      Contact k;
+      k.count = 3;
+      for (int i = 0; i < 3; ++i) {
+        k.vertex[i] = g_.F(c.face, i);
+        k.weight[i] = c.weight[i];
+      }
+      k.normal = c.normal;
+      k.bound = c.bound;
+      contacts_.push_back(k);
+    }
+    return contacts_.size() - before;
   }
 
   // A lower bound on vertex v's distance from the body: its distance at its last exact nearest-
@@ -416,12 +446,12 @@ class ShapeRelaxation {
   // True when garment face f cannot touch the body: some corner is farther from the body than
   // from every point of the face (its two edges' lengths bound that; the distance to the body
   // changes by at most the distance moved).
-  bool clearOfBody(int f) const {
+  bool clearOfBody(int f, double margin) const {
     for (int k = 0; k < 3; ++k) {
       const int c = g_.F(f, k);
       const double reach = std::max((g_.V.row(c) - g_.V.row(g_.F(f, (k + 1) % 3))).norm(),
                                     (g_.V.row(c) - g_.V.row(g_.F(f, (k + 2) % 3))).norm());
-      if (distanceBound(c) > reach) return true;
+      if (distanceBound(c) > reach + margin) return true;
     }
     return false;
   }
@@ -457,7 +487,6 @@ class ShapeRelaxation {
   std::vector<int> plane_face_;
   std::vector<double> exact_distance_;     // per vertex: at its last query through the body's tree
   std::vector<Eigen::Vector3d> exact_at_;  // and where it was then
-  std::vector<int> bvf_start_, bvf_;  // the body's faces round each body vertex
   std::vector<Eigen::Quaterniond> quat_;  // per vertex: its local rotation (identity when inactive)
   std::vector<Eigen::Matrix3d> rot_;
 };

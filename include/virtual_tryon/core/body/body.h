@@ -9,6 +9,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 namespace virtual_tryon {
 
@@ -33,6 +34,12 @@ class Body {
   // ridge or a valley).
   const MatrixX3d& edgeNormals() const { buildAdjacency(); return edge_normals_; }
   bool adjacencyBuilt() const { return adjacency_built_; }
+  // The faces round each vertex (vertex v: vertexFaces()[vertexFaceStart()[v] ..
+  // vertexFaceStart()[v + 1]), facesRoundVertices of mesh.h) and #V by 3 unit vertex normals
+  // (mesh.h vertexNormals), built together on the first call to either (thread-safe), then reused.
+  const std::vector<int>& vertexFaceStart() const { buildVertexAdjacency(); return vertex_face_start_; }
+  const std::vector<int>& vertexFaces() const { buildVertexAdjacency(); return vertex_faces_; }
+  const MatrixX3d& vertexNormals() const { buildVertexAdjacency(); return vertex_normals_; }
   const EdgeTopology& topology() const { return topology_; }
   bool closed() const { return topology_.closed(); }
   double meanEdgeLength() const { return mean_edge_length_; }
@@ -54,6 +61,7 @@ class Body {
 
  private:
   void buildAdjacency() const;
+  void buildVertexAdjacency() const;
 
   TriMesh mesh_;
   MatrixX3d face_normals_;
@@ -62,6 +70,9 @@ class Body {
   mutable MatrixX2i edges_;
   mutable MatrixX3i face_edges_;
   mutable MatrixX3d edge_normals_;
+  mutable std::once_flag vertex_adjacency_once_;
+  mutable std::vector<int> vertex_face_start_, vertex_faces_;
+  mutable MatrixX3d vertex_normals_;
   EdgeTopology topology_;
   double mean_edge_length_ = 0;
   double signed_volume_ = 0;

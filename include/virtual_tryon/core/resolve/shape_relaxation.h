@@ -5,8 +5,13 @@
 // vertex, and a body face is much smaller than a garment edge, so single vertices are lifted far
 // past the surface (spikes, tents) while their neighbours stay. This stage starts from the
 // resolver's clean state and minimises, over the moved vertices and a few rings round them,
-//   E(u) = sum over edges (i, j) of |u_i - u_j|^2 + mu sum over i of |u_i|^2,   u = x - x_input,
-// the change of every edge vector plus a small pull back to the input, subject to:
+//   E(x) = sum over edges (i, j) of |(x_i - x_j) - (R_i + R_j) / 2 (x0_i - x0_j)|^2
+//          + mu sum over i of |x_i - x0_i|^2,
+// the change of every edge vector against its input vector x0_i - x0_j turned by the local
+// rotations R_i of its ends (as-rigid-as-possible, Sorkine and Alexa 2007: the garment may bend
+// round the body, only stretch and shear cost; each R_i is refitted to its one-ring every check,
+// warm-started, by the iteration of Mueller et al. 2016; with local_rotations off R = I and E is
+// the change of the edge vectors themselves), plus a small pull back to the input, subject to:
 //   - every vertex stays outside the body by its floor: the clearance d for a vertex that the
 //     resolver moved, the smaller of d and its input distance for the others (a vertex that sat
 //     closer than d is not pushed); the body is seen through the tangent plane at each vertex's
@@ -20,10 +25,13 @@
 //     along its normal. The vertices of a new crossing also step back half way to their last
 //     clean position (up to `bisections` times, then all the way) and rest for `hold_sweeps`
 //     sweeps while their neighbours relax round them.
-// Projected Gauss-Seidel on u: each vertex in turn goes to the weighted mean of its neighbours'
-// displacements, then onto its half-space; then the strain limit and the contacts. The garment is
-// clean after every check, so the stage can stop anywhere (sweep limit, step below `tolerance`,
-// time budget) and keep what it has.
+// Projected Gauss-Seidel: each vertex in turn goes to where its neighbours put it, then onto its
+// half-space; then the strain limit and the contacts. The garment is clean after every check, so
+// the stage can stop anywhere (sweep limit, step below `tolerance`, time budget) and keep what it
+// has. Last, a polish: a step back leaves single edges torn between a vertex that stepped back and
+// one that did not, so edges strained beyond `polish_strain` are brought back to it (the contacts
+// and half-spaces kept, each pass checked like a sweep), and again after the final check if that
+// stepped anything back.
 #pragma once
 
 #include "virtual_tryon/core/body/body.h"
@@ -55,7 +63,16 @@ struct ShapeRelaxationParams {
   bool local_rotations = true;
   int hold_sweeps = 6;            // a vertex that stepped back rests for this many sweeps
   // After the sweeps, this many passes bring every edge strained beyond polish_strain back to it
-  // (vertices that stepped back too), each checked like a sweep; 0: none.
+  // (vertices that stepped back too), each checked like a sweep; 0: none (one pass still projects
+  // the contacts found by the last check).
+  // m; when > 0, with every crossing check: each body vertex under a checked garment face nearer to
+  // it than this (along the vertex's normal) becomes a contact that keeps the face's point there
+  // this far out. The vertex floors keep a face's corners out; this keeps the middle of a large
+  // face out where the body bulges under it. The resolver sets it to its clearance when the body
+  // has an uncertainty (a scan), so that the whole garment surface clears the mesh by d + u; it
+  // also lifts, before the rounds, every face whose middle passes nearer than that (0: that
+  // default; < 0: off, in both places).
+  double face_clearance = 0;
   int polish_passes = 5;
   double polish_strain = 0.2;
   double time_budget = 0;         // s, 0: none
