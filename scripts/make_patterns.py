@@ -16,7 +16,7 @@ import sys
 
 # Measured on ../shared/data/body_hm08.obj (cross-sections every 5 cm; see the closing note).
 HM08 = dict(
-    name="hm08", axis_x=0.0, axis_z=0.04,
+    name="hm08", axis_x=0.0, axis_z=0.04, waist_ease=1.15,
     neck_y=0.60, shoulder_y=0.52, armpit_y=0.43, chest_y=0.35, waist_y=0.22, hip_y=0.03,
     crotch_y=-0.09, knee_y=-0.42, ankle_y=-0.72,
     chest_rx=0.135, chest_rz=0.098, waist_rx=0.124, waist_rz=0.090, hip_rx=0.176, hip_rz=0.114,
@@ -40,7 +40,7 @@ HM08 = dict(
 # parameters: 1.70 m, feet at y = 0), from proceduralBodyLandmarks(); test_procedural_body checks
 # that these numbers still match the body.
 PROCEDURAL = dict(
-    name="procedural", axis_x=0.0, axis_z=0.0,
+    name="procedural", axis_x=0.0, axis_z=0.0, waist_ease=1.10,
     neck_y=1.47, shoulder_y=1.43, armpit_y=1.31, chest_y=1.24, waist_y=1.05, hip_y=0.88,
     crotch_y=0.755, knee_y=0.48, ankle_y=0.08,
     chest_rx=0.166, chest_rz=0.110, waist_rx=0.138, waist_rz=0.094, hip_rx=0.182, hip_rz=0.113,
@@ -504,8 +504,10 @@ def trousers(L):
 
     def outline(part):
         quarter_hip = 0.5 * max_girth(L, L["crotch_y"], L["hip_y"], part) * 1.1
-        # The waist 5% over the body: looser, the trousers slid down over body_hm08's hips.
-        quarter_waist = 0.5 * girth(L, L["waist_y"], part) * 1.05
+        # The waist over the body by the body's waist ease: at 5% the stiffer cloth (k_structural
+        # 100 N/m) held body_hm08's waistband 30-43% stretched over the tops of the hips at the
+        # side seams; much looser, the trousers slid down over the hips.
+        quarter_waist = 0.5 * girth(L, L["waist_y"], part) * L["waist_ease"]
         w_out_hip, w_in_hip = 0.55 * quarter_hip, 0.45 * quarter_hip
         w_out_waist, w_in_waist = 0.55 * quarter_waist, 0.45 * quarter_waist
         # Crotch point: at least 5 cm past the inner hip line, and far enough that the front and

@@ -60,7 +60,7 @@ std::string usage() {
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
          "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
          "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
-         "              [--body-uncertainty M] [--render PREFIX]\n"
+         "              [--max-strain S] [--body-uncertainty M] [--render PREFIX]\n"
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
          "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
          "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
@@ -75,6 +75,8 @@ std::string usage() {
          "      --density      cloth density, kg/m^2 (default " + g(d.cloth.density) + ")\n"
          "      --k-structural, --k-shear, --k-flexion  spring stiffnesses, N/m (default " +
          g(d.cloth.k_structural) + ", " + g(d.cloth.k_shear) + ", " + g(d.cloth.k_flexion) + ")\n"
+         "      --max-strain   a spring of the returned garment longer than (1 + S) x its rest\n"
+         "                     length makes the drape not converged (default " + g(d.max_strain) + "; 0: no limit)\n"
          "      Prints the report as JSON and writes the garment (one welded mesh) to OUT.\n"
          "      Exit 0 converged, 3 not converged, 2 bad input or a failed drape (message on\n"
          "      stderr; no OUT written).\n"
@@ -300,6 +302,7 @@ int drape(const std::map<std::string, std::string>& opt) {
   p.cloth.k_structural = number(opt, "k-structural", p.cloth.k_structural);
   p.cloth.k_shear = number(opt, "k-shear", p.cloth.k_shear);
   p.cloth.k_flexion = number(opt, "k-flexion", p.cloth.k_flexion);
+  p.max_strain = number(opt, "max-strain", p.max_strain);
   p.resolver.body_uncertainty = number(opt, "body-uncertainty", 0.0);
   if (p.resolver.body_uncertainty < 0) throw Usage("--body-uncertainty must be >= 0 (metres)");
   p.limits = meshLimits(opt);

@@ -114,7 +114,7 @@ void logDrape(const DrapeResult& report) {
            report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
            report.penetrating_before_resolve, report.penetrating_after,
            report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
-           report.boundary_loops, report.openings, report.strain_max,
+           report.boundary_loops, report.openings, report.strain_max_final,
            report.converged ? "converged" : "NOT converged");
   if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
   for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
@@ -152,6 +152,7 @@ DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
   readChecked<bool>(pnh, "drape/clamp_dt", p, [](DrapeParams& q) -> bool& { return q.clamp_dt; });
   readChecked<int>(pnh, "drape/max_iterations", p, [](DrapeParams& q) -> int& { return q.max_iterations; });
   readChecked<double>(pnh, "drape/settle_speed", p, [](DrapeParams& q) -> double& { return q.settle_speed; });
+  readChecked<double>(pnh, "drape/max_strain", p, [](DrapeParams& q) -> double& { return q.max_strain; });
   readChecked<bool>(pnh, "drape/resolve", p, [](DrapeParams& q) -> bool& { return q.resolve; });
   readChecked<double>(pnh, "drape/time_budget", p, [](DrapeParams& q) -> double& { return q.time_budget; });
   ROS_INFO("tryon_node: drape: spacing %g m, %s space, tol %g m, map_size %d, friction %g, "

@@ -94,6 +94,7 @@ DrapeReport toMsg(const DrapeResult& r, CollisionMode mode) {
   m.seam_gap_mean = r.seam_gap_mean;
   m.strain_max = r.strain_max;
   m.strain_mean = r.strain_mean;
+  m.strain_max_final = r.strain_max_final;
   m.boundary_loops = u32(r.boundary_loops);
   m.openings = u32(r.openings);
   m.max_speed = r.max_speed;

@@ -190,7 +190,7 @@ TEST(MalformedCli, MeshFilesPatternsAndParameters) {
        "warning: garment is 1e+06 m away from the body"},
       // A body in millimetres: the warning, then the cloth (deep inside a capsule 100 m wide) is
       // thrown out faster than 50 m/s and the drape stops, failed, with that message.
-      {"body in millimetres", "drape --body $D/capsule_mm.obj --out $D/out.obj --spacing 0.03 --max-iterations 300 --pattern $D/bag.yaml",
+      {"body in millimetres", "drape --body $D/capsule_mm.obj --out $D/out.obj --spacing 0.03 --max-iterations 300 --k-structural 10 --pattern $D/bag.yaml",
        2, "warning: body is 1700 m long"},
   };
   for (const CliCase& tc : cases) {

@@ -103,6 +103,7 @@ class DrapeRun {
     rep_.success = true;
     resolve(garment);
     rep_.vertex_strain = cloth_->nodeStrain(garment.V);
+    for (double s : rep_.vertex_strain) rep_.strain_max_final = std::max(rep_.strain_max_final, s);
     summarize();
     return rep_;
   }
@@ -299,6 +300,7 @@ class DrapeRun {
       // The resolver gets what is left of the drape's budget (at least a millisecond, so that it
       // always makes its first detection pass and reports), unless its own budget is tighter.
       ResolverParams resolverParams = params_.resolver;
+      if (params_.resolve_polish_strain > 0) resolverParams.relaxation.polish_strain = params_.resolve_polish_strain;
       if (params_.time_budget > 0) {
         const double left = std::max(1e-3, params_.time_budget - since(tStart_));
         if (resolverParams.time_budget <= 0 || resolverParams.time_budget > left)
@@ -319,7 +321,9 @@ class DrapeRun {
   // Converged or not, and the one-line summary.
   void summarize() {
     const bool watertight = rep_.boundary_loops == rep_.openings;
-    rep_.converged = settled_ && rep_.seams_open == 0 && watertight && (!rep_.resolver_run || rep_.resolver.converged);
+    const bool withinStrain = !(params_.max_strain > 0) || rep_.strain_max_final <= params_.max_strain;
+    rep_.converged = settled_ && rep_.seams_open == 0 && watertight && withinStrain &&
+                     (!rep_.resolver_run || rep_.resolver.converged);
     std::ostringstream msg;
     if (rep_.converged)
       msg << "draped: " << rep_.iterations << " iterations (" << rep_.sew_iterations << " sewing), settled";
@@ -330,6 +334,10 @@ class DrapeRun {
           << rep_.openings << " openings (holes along its seams)";
     else if (rep_.resolver_run && !rep_.resolver.converged)
       msg << "not converged: resolver: " << rep_.resolver.reason;
+    else if (!withinStrain)
+      msg << "not converged: a spring is stretched by " << num(rep_.strain_max_final)
+          << " of its rest length, above max_strain " << num(params_.max_strain)
+          << " (a seam or an opening too tight for the body, or cloth too soft for its weight)";
     else
       msg << "not converged";
     rep_.message = msg.str();
@@ -392,6 +400,8 @@ std::string validateDrapeParams(const DrapeParams& p) {
   if (p.max_iterations < 1) return bad("max_iterations", p.max_iterations, ">= 1");
   if (p.max_sew_iterations < 1) return bad("max_sew_iterations", p.max_sew_iterations, ">= 1");
   if (!(p.settle_speed > 0)) return bad("settle_speed", p.settle_speed, "> 0 m/s");
+  if (!(p.resolve_polish_strain >= 0)) return bad("resolve_polish_strain", p.resolve_polish_strain, ">= 0");
+  if (!(p.max_strain >= 0) || !std::isfinite(p.max_strain)) return bad("max_strain", p.max_strain, ">= 0 (0: no limit)");
   if (!(p.weld_tolerance >= 0)) return bad("weld_tolerance", p.weld_tolerance, ">= 0 m");
   if (!(p.time_budget >= 0)) return bad("time_budget", p.time_budget, ">= 0 s");
   if (!(p.push_out >= 0 && p.push_out <= 1)) return bad("push_out", p.push_out, "0 .. 1");

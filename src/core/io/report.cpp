@@ -93,6 +93,7 @@ std::string toJson(const DrapeResult& r) {
       .add("seam_gap_mean_m", r.seam_gap_mean)
       .add("strain_max", r.strain_max)
       .add("strain_mean", r.strain_mean)
+      .add("strain_max_final", r.strain_max_final)
       .add("boundary_loops", r.boundary_loops)
       .add("openings", r.openings)
       .add("max_speed_m_per_s", r.max_speed)

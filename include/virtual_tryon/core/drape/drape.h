@@ -38,7 +38,15 @@ struct DrapeParams {
   // instantaneous speed of a resting cloth is mostly contact chatter: see drape.cpp)
   double settle_speed = 0.02;
   double time_budget = 0;      // seconds of wall clock; 0: none. When spent: best state, not converged
+  // The largest structural-spring strain |l / l0 - 1| of the returned garment (after the resolver)
+  // a converged drape may have; above it the drape is not converged and says so. 0: no limit.
+  double max_strain = 0.15;
   bool resolve = true;         // run the penetration resolver on the result
+  // The final resolve's shape relaxation brings edges strained past this (against the draped
+  // garment, its input) back to it, instead of resolver.relaxation.polish_strain: the draped cloth
+  // already carries its own strain, and at 0.2 the resolve added up to 0.15 more to the sleeveless
+  // shirt's straps (0.064 -> 0.218). 0: the resolver's own.
+  double resolve_polish_strain = 0.05;
   ResolverParams resolver;
   MeshLimits limits;           // the cloth's node count (meshPattern) is held to limits.max_vertices
 };
@@ -72,7 +80,10 @@ struct DrapeResult {
   double seconds_total = 0;
   int seams_total = 0, seams_open = 0;
   double seam_gap_max = 0, seam_gap_mean = 0;  // of the seams still open, metres
-  double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs
+  double strain_max = 0, strain_mean = 0;      // |l / l0 - 1| over structural springs, as draped
+  // The largest of the same over the returned garment (after the resolver moved it): what
+  // max_strain judges, the largest of vertex_strain.
+  double strain_max_final = 0;
   // Boundary loops of the welded garment, and the openings its pattern has (the loops of unsewn
   // outline, patternOpenings()): a watertight garment has as many of the one as of the other, and
   // a converged drape must be watertight.
