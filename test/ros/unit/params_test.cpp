@@ -42,6 +42,7 @@ TEST(Params, DrapeDefaultsInParamsYamlAreTheCoreDefaults) {
   EXPECT_DOUBLE_EQ(num("max_iterations"), p.max_iterations);
   EXPECT_DOUBLE_EQ(num("settle_speed"), p.settle_speed);
   EXPECT_DOUBLE_EQ(num("time_budget"), p.time_budget);
+  EXPECT_DOUBLE_EQ(num("max_strain"), p.max_strain);
   for (const char* key : {"clamp_dt", "resolve", "collision_mode"}) seen.insert(key);
   ASSERT_TRUE(d["clamp_dt"] && d["resolve"] && d["collision_mode"]);
   EXPECT_EQ(d["clamp_dt"].as<bool>(), p.clamp_dt);
