@@ -50,6 +50,12 @@ void faceClearances(const Body& body, const TriMesh& garment, int f, double c, s
   }
 }
 
+double cornerReach(const TriMesh& garment, int f, int k) {
+  const int c = garment.F(f, k);
+  return std::max((garment.V.row(c) - garment.V.row(garment.F(f, (k + 1) % 3))).norm(),
+                  (garment.V.row(c) - garment.V.row(garment.F(f, (k + 2) % 3))).norm());
+}
+
 double shortfall(const FaceClearance& k, const TriMesh& garment) {
   double value = 0;
   for (int i = 0; i < 3; ++i) value += k.weight[i] * k.normal.dot(garment.V.row(garment.F(k.face, i)).transpose());

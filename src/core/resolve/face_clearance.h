@@ -29,6 +29,11 @@ struct FaceClearance {
 // corners of the body faces whose boxes overlap f's box grown by c.
 void faceClearances(const Body& body, const TriMesh& garment, int f, double c, std::vector<FaceClearance>& out);
 
+// The farthest any point of garment face f lies from its corner k (0..2): the longer of the two
+// edges at that corner. A corner farther than this (plus a margin) from the body keeps the whole
+// face that far off it.
+double cornerReach(const TriMesh& garment, int f, int k);
+
 // How far face clearance k is short of its bound (<= 0: met).
 double shortfall(const FaceClearance& k, const TriMesh& garment);
 

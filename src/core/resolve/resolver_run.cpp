@@ -454,12 +454,8 @@ void ResolverRun::liftFaceMiddles(const std::vector<double>& distance) {
   std::vector<FaceClearance> found;
   for (Eigen::Index f = 0; f < garment_.F.rows(); ++f) {
     bool clear = false;
-    for (int k = 0; k < 3 && !clear; ++k) {
-      const int c = garment_.F(f, k);
-      const double reach = std::max((garment_.V.row(c) - garment_.V.row(garment_.F(f, (k + 1) % 3))).norm(),
-                                    (garment_.V.row(c) - garment_.V.row(garment_.F(f, (k + 2) % 3))).norm());
-      clear = distance[c] > reach + d_;
-    }
+    for (int k = 0; k < 3 && !clear; ++k)
+      clear = distance[garment_.F(f, k)] > cornerReach(garment_, static_cast<int>(f), k) + d_;
     if (!clear) faceClearances(body_, garment_, static_cast<int>(f), d_, found);
   }
   std::vector<char> lifted(static_cast<std::size_t>(nv_), 0);

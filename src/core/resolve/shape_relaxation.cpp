@@ -5,9 +5,9 @@
 #include "core/resolve/face_clearance.h"
 #include "core/resolve/resolver_run.h"
 
-#include <algorithm>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <limits>
@@ -447,12 +447,8 @@ class ShapeRelaxation {
   // from every point of the face (its two edges' lengths bound that; the distance to the body
   // changes by at most the distance moved).
   bool clearOfBody(int f, double margin) const {
-    for (int k = 0; k < 3; ++k) {
-      const int c = g_.F(f, k);
-      const double reach = std::max((g_.V.row(c) - g_.V.row(g_.F(f, (k + 1) % 3))).norm(),
-                                    (g_.V.row(c) - g_.V.row(g_.F(f, (k + 2) % 3))).norm());
-      if (distanceBound(c) > reach + margin) return true;
-    }
+    for (int k = 0; k < 3; ++k)
+      if (distanceBound(g_.F(f, k)) > resolver_run::cornerReach(g_, f, k) + margin) return true;
     return false;
   }
 
