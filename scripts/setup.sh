@@ -17,6 +17,7 @@ PACKAGES=(
   libpcl-dev python3-matplotlib python3-numpy
   libvtk9-dev xvfb xauth
   clang libfuzzer-14-dev
+  nlohmann-json3-dev
 )
 
 missing=()

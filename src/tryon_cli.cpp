@@ -5,7 +5,10 @@
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/io/pattern_garmentcode.h"
 #include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/drape/pattern_placement.h"
+#include "virtual_tryon/core/drape/pattern_transform.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/testing/reference_bvh.h"
@@ -17,6 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -24,6 +28,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -64,6 +69,15 @@ std::string usage() {
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
          "      (config/patterns/README.md) on the body (Vassilev et al. 2001), then resolves\n"
          "      what penetrates (Sun et al. 2016) unless --no-resolve.\n"
+         "      P may also be a GarmentCode pattern specification (.json, or any file whose\n"
+         "      content is a JSON object; README, GarmentCode patterns): its curves are sampled\n"
+         "      at the spacing and its panels placed on the body by the placement rule:\n"
+         "      --placement    auto (default: its floor to the body's lowest point, x and z to the\n"
+         "                     torso centre at hip height), none (GarmentCode's own frame), or\n"
+         "                     'TX TY TZ [RX RY RZ]': this transform from GarmentCode's frame (m,\n"
+         "                     Euler degrees, R = Rz Ry Rx) instead of the rule\n"
+         "      --scale-to-height  with auto: also scale the panel positions by the body's\n"
+         "                     height / 1.72 m\n"
          "      --spacing      cloth grid spacing, m (default " + g(d.spacing) + ")\n"
          "      --mode         collisions: image (depth maps, default) or object (body mesh)\n"
          "      --dt           time step, s (default: " + g(d.dt_safety) + " x the stability bound;\n"
@@ -80,6 +94,11 @@ std::string usage() {
          "      Prints the report as JSON and writes the garment (one welded mesh) to OUT.\n"
          "      Exit 0 converged, 3 not converged, 2 bad input or a failed drape (message on\n"
          "      stderr; no OUT written).\n"
+         "  tryon convert-pattern --in P.json --out P.yaml [--spacing M] [--body B]\n"
+         "                [--placement ...] [--scale-to-height]\n"
+         "      Writes a GarmentCode pattern specification as our YAML pattern: curves sampled at\n"
+         "      the spacing (default " + g(d.spacing) + "), panels in GarmentCode's frame (metres), or placed\n"
+         "      on the body B as drape does. Prints the stitches (lengths, take-in) as JSON.\n"
          "  tryon render --body B --garment G --out PREFIX [--reference INPUT] [--strain-scale S]\n"
          "               [--title T]\n"
          "      Writes PREFIX_front.png, PREFIX_side.png, PREFIX_back.png (VTK, offscreen): the body\n"
@@ -104,7 +123,7 @@ struct Usage : std::runtime_error {
 };
 
 // Options without a value.
-const std::set<std::string> kFlags = {"no-resolve"};
+const std::set<std::string> kFlags = {"no-resolve", "scale-to-height"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -278,6 +297,97 @@ std::string stem(const std::string& path) {
   return dot == std::string::npos ? name : name.substr(0, dot);
 }
 
+// --placement 'TX TY TZ [RX RY RZ]': metres and Euler degrees (R = Rz Ry Rx, GarmentCode's order).
+Eigen::Isometry3d explicitPlacement(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> v;
+  double x = 0;
+  while (in >> x) v.push_back(x);
+  if (!in.eof() || (v.size() != 3 && v.size() != 6) ||
+      std::any_of(v.begin(), v.end(), [](double a) { return !std::isfinite(a); }))
+    throw Usage("--placement must be auto, none, or 'TX TY TZ [RX RY RZ]' (metres, degrees), got '" + text + "'");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (v.size() == 6) {
+    const double k = 3.14159265358979323846 / 180;
+    T.linear() = (Eigen::AngleAxisd(v[5] * k, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(v[4] * k, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(v[3] * k, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  }
+  return T;
+}
+
+bool isGarmentCodeFile(const std::string& path) {
+  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) return true;
+  std::ifstream in(path);
+  std::string head(256, '\0');
+  in.read(&head[0], static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(0, in.gcount())));
+  return vt::looksLikeJson(head);
+}
+
+// The stitches of a GarmentCode pattern as JSON: lengths and what each seam takes in.
+std::string stitchesJson(const vt::GarmentCodeReport& rep) {
+  std::ostringstream o;
+  o << "[";
+  for (std::size_t i = 0; i < rep.stitches.size(); ++i) {
+    const vt::GarmentCodeStitch& s = rep.stitches[i];
+    o << (i ? ", " : "") << "{\"a\": \"" << s.panel_a << ":" << s.edge_a << "\", \"b\": \"" << s.panel_b << ":"
+      << s.edge_b << "\", \"length_a\": " << s.length_a << ", \"length_b\": " << s.length_b
+      << ", \"take_in\": " << std::abs(s.length_a - s.length_b) << ", \"seams\": " << s.seams.size() << "}";
+  }
+  return o.str() + "]";
+}
+
+// Reads a YAML pattern, or a GarmentCode specification (sampled at `spacing`) placed on the body
+// (nullptr: left in GarmentCode's frame unless --placement gives a transform).
+vt::Pattern loadPattern(const std::string& path, double spacing, const vt::Body* body,
+                        const std::map<std::string, std::string>& opt, vt::GarmentCodeReport* report = nullptr) {
+  vt::Pattern pattern;
+  std::string err;
+  if (!isGarmentCodeFile(path)) {
+    if (opt.count("placement") || opt.count("scale-to-height"))
+      throw Usage("--placement and --scale-to-height are for GarmentCode patterns (.json)");
+    if (!vt::readPatternYaml(path, pattern, err)) throw std::invalid_argument(err);
+    return pattern;
+  }
+  vt::GarmentCodeReadParams rp;
+  rp.spacing = spacing;
+  vt::GarmentCodeReport rep;
+  if (!vt::readGarmentCodeJson(path, rp, pattern, rep, err)) throw std::invalid_argument(err);
+  for (const std::string& w : rep.warnings) warn(w);
+  const std::string mode = opt.count("placement") ? opt.at("placement") : (body ? "auto" : "none");
+  if (mode == "auto") {
+    if (!body) throw Usage("--placement auto needs --body");
+    vt::BodyPlacementParams bp;
+    bp.scale_to_height = opt.count("scale-to-height") > 0;
+    const vt::BodyPlacement placement = vt::placePatternOnBody(*body, pattern, bp);
+    std::cerr << "tryon: placement: " << placement.rule << "\n";
+  } else if (mode != "none") {
+    if (opt.count("scale-to-height")) throw Usage("--scale-to-height goes with --placement auto");
+    vt::transformPattern(explicitPlacement(mode), pattern);
+  }
+  if (report) *report = rep;
+  return pattern;
+}
+
+int convertPattern(const std::map<std::string, std::string>& opt) {
+  const std::string in = required(opt, "in"), out = required(opt, "out");
+  const double spacing = number(opt, "spacing", vt::DrapeParams().spacing);
+  if (!(spacing > 0)) throw Usage("--spacing must be > 0 (metres)");
+  if (!isGarmentCodeFile(in)) throw std::invalid_argument(in + ": not a GarmentCode pattern specification (JSON)");
+  std::unique_ptr<vt::Body> body;
+  if (opt.count("body")) body = std::make_unique<vt::Body>(loadBody(opt.at("body"), meshLimits(opt)).mesh);
+  vt::GarmentCodeReport rep;
+  const vt::Pattern pattern = loadPattern(in, spacing, body.get(), opt, &rep);
+  std::ofstream f(out);
+  f << vt::patternToYaml(pattern);
+  if (!f) throw std::runtime_error(out + ": cannot write");
+  std::cout << "{\"panels\": " << pattern.panels.size() << ", \"seams\": " << pattern.seams.size()
+            << ", \"openings\": " << vt::patternOpenings(pattern) << ", \"stitches\": " << stitchesJson(rep) << "}"
+            << std::endl;
+  return 0;
+}
+
 int drape(const std::map<std::string, std::string>& opt) {
   const std::string bodyPath = required(opt, "body");
   const std::string patternPath = required(opt, "pattern");
@@ -309,10 +419,8 @@ int drape(const std::map<std::string, std::string>& opt) {
   const std::string bad = vt::validateDrapeParams(p);
   if (!bad.empty()) throw std::invalid_argument(bad);
 
-  vt::Pattern pattern;
-  std::string err;
-  if (!vt::readPatternYaml(patternPath, pattern, err)) throw std::invalid_argument(err);
   const vt::Body body(loadBody(bodyPath, p.limits).mesh);
+  const vt::Pattern pattern = loadPattern(patternPath, p.spacing, &body, opt);
   vt::TriMesh garment;
   auto last = std::chrono::steady_clock::now();
   const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
@@ -404,9 +512,13 @@ int main(int argc, char** argv) {
     if (cmd == "drape") {
       allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
                            "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
-                           "k-flexion", "body-uncertainty", "render", "strain-scale", "title",
-                           "max-vertices", "max-faces"});
+                           "k-flexion", "max-strain", "body-uncertainty", "render", "strain-scale", "title",
+                           "placement", "scale-to-height", "max-vertices", "max-faces"});
       return drape(opt);
+    }
+    if (cmd == "convert-pattern") {
+      allowOnly(opt, cmd, {"in", "out", "spacing", "body", "placement", "scale-to-height", "max-vertices", "max-faces"});
+      return convertPattern(opt);
     }
     if (cmd == "render") {
       allowOnly(opt, cmd, {"body", "garment", "out", "reference", "strain-scale", "title", "max-vertices", "max-faces"});

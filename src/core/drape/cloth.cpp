@@ -282,6 +282,12 @@ double ClothState::meanSeamGap() const {
   return g / static_cast<double>(seams_.size());
 }
 
+std::vector<int> ClothState::openSeamIndices() const {
+  std::set<int> open;
+  for (const SeamPair& s : seams_) open.insert(s.seam);
+  return std::vector<int>(open.begin(), open.end());
+}
+
 void ClothState::countOpenSeams() {
   std::set<int> open;
   for (const SeamPair& s : seams_) open.insert(s.seam);

@@ -259,7 +259,9 @@ class DrapeRun {
   bool limitReached(bool sewing) {
     const ClothState& cloth = *cloth_;
     if (sewing && cloth.openSeams() > 0 && rep_.sew_iterations >= params_.max_sew_iterations) {
-      stop_ = std::to_string(cloth.openSeams()) + " seams still open after " +
+      std::string which;
+      for (int k : cloth.openSeamIndices()) which += (which.empty() ? "" : ", ") + std::to_string(k);
+      stop_ = std::to_string(cloth.openSeams()) + " seams still open (" + which + ") after " +
               std::to_string(rep_.sew_iterations) + " sewing iterations (largest gap " +
               num(cloth.maxSeamGap()) + " m, weld tolerance " + num(weldTol_) + " m)";
       return true;

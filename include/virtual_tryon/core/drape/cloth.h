@@ -88,6 +88,8 @@ class ClothState {
   // (mass summed, position and velocity averaged). Returns how many seams were welded.
   int weldClosedSeams(double tolerance);
   int openSeams() const { return open_seams_; }
+  // The pattern seams not welded yet (indices into pattern.seams), ascending.
+  std::vector<int> openSeamIndices() const;
   // The seam pairs still open (node indices of the current, possibly welded, state).
   const std::vector<SeamPair>& openSeamPairs() const { return seams_; }
 
