@@ -1,5 +1,8 @@
 // TryonNode's ~drape service (Vassilev et al. 2001 through the core's drape()) and its drape/
 // parameters. The rest of the node is in tryon_node.cpp.
+#include "virtual_tryon/core/drape/pattern_placement.h"
+#include "virtual_tryon/core/drape/pattern_transform.h"
+#include "virtual_tryon/core/io/pattern_garmentcode.h"
 #include "virtual_tryon/core/io/report_summary.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
@@ -93,8 +96,49 @@ void moveOutput(Output& out, Response& r) {
   r.report = std::move(out.report);
 }
 
-// Converts and validates a pattern message; errors start with "pattern: ".
-bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, Pattern& pattern, std::string& error) {
+// Converts and validates a pattern message; errors start with "pattern: ". A GarmentCode
+// specification (msg.garmentcode_json) is read at `spacing`; `placedOnBody` tells whether it was
+// placed in the body's frame by the placement rule (`body` given) rather than left in the
+// message's frame (use_placement, or no body: a check only).
+bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, double spacing, const Body* body, Pattern& pattern,
+                    bool& placedOnBody, std::string& error) {
+  placedOnBody = false;
+  if (!msg.garmentcode_json.empty()) {
+    if (!msg.panels.empty() || !msg.seams.empty()) {
+      error = "pattern: garmentcode_json and panels / seams are both set: send one or the other";
+      return false;
+    }
+    GarmentCodeReadParams rp;
+    rp.spacing = spacing;
+    GarmentCodeReport report;
+    if (!parseGarmentCodeJson(msg.garmentcode_json, rp, pattern, report, error)) {
+      error = "pattern: garmentcode_json: " + error;
+      return false;
+    }
+    if (pattern.name.empty()) pattern.name = msg.name.empty() ? "garmentcode" : msg.name;
+    for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: pattern: " << w);
+    if (msg.use_placement) {
+      const geometry_msgs::Transform& t = msg.placement;
+      geometry_msgs::Pose pose;
+      pose.position.x = t.translation.x;
+      pose.position.y = t.translation.y;
+      pose.position.z = t.translation.z;
+      pose.orientation = t.rotation;
+      Eigen::Isometry3d T;
+      if (!rc::poseToIsometry(pose, T, error)) {
+        error = "pattern: placement: " + error;
+        return false;
+      }
+      transformPattern(T, pattern);
+    } else if (body) {
+      BodyPlacementParams bp;
+      bp.scale_to_height = msg.scale_to_height;
+      const BodyPlacement placement = placePatternOnBody(*body, pattern, bp);
+      ROS_INFO_STREAM("tryon_node: pattern: placement: " << placement.rule);
+      placedOnBody = true;
+    }
+    return true;
+  }
   if (!rc::fromMsg(msg, pattern, error)) {
     error = "pattern: " + error;
     return false;
@@ -251,11 +295,12 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   DrapeParams params;
   Pattern pattern;
   BodyState body;
-  if (!drapeParams(req, params, error) || !patternFromMsg(*req.pattern, pattern, error) ||
-      !requestBody(*req.body, body, error))
+  bool placedOnBody = false;
+  if (!drapeParams(req, params, error) || !requestBody(*req.body, body, error) ||
+      !patternFromMsg(*req.pattern, params.spacing, body.body.get(), pattern, placedOnBody, error))
     return false;
   const std::string& patternFrame = req.pattern->header.frame_id;
-  if (!patternFrame.empty() && patternFrame != body.frame &&
+  if (!placedOnBody && !patternFrame.empty() && patternFrame != body.frame &&
       !transformInto(patternFrame, body.frame, req.pattern->header.stamp, pattern, error))
     return false;
 
