@@ -5,6 +5,7 @@
 #   fuzz_point_cloud   serialized sensor_msgs/PointCloud2 -> pointCloudToPoints (normals too)
 #   fuzz_mesh_io       OBJ / PLY / STL files -> readMesh, validateBody
 #   fuzz_pattern_yaml  pattern YAML -> parsePatternYaml, write and read back, meshPattern
+#   fuzz_pattern_garmentcode  GarmentCode JSON -> parseGarmentCodeJson, meshPattern
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   (TARGET without the fuzz_ prefix; default all)
 # Each target's corpus grows in .ws_fuzz/corpus/TARGET; crashes, leaks and UB are written to
 # .ws_fuzz/artifacts/ and make the script exit non-zero. VT_FUZZ_JOBS (default 1) runs that many
@@ -15,7 +16,7 @@ REPO=$(cd "$HERE/.." && pwd)
 SECONDS_EACH=${1:-5}
 shift || true
 TARGETS=("$@")
-if ((${#TARGETS[@]} == 0)); then TARGETS=(polygon_mesh point_cloud mesh_io pattern_yaml); fi
+if ((${#TARGETS[@]} == 0)); then TARGETS=(polygon_mesh point_cloud mesh_io pattern_yaml pattern_garmentcode); fi
 DIR=${VT_FUZZ_DIR:-$REPO/.ws_fuzz}
 BUILD=$DIR/build
 JOBS=${VT_FUZZ_JOBS:-1}
@@ -29,9 +30,10 @@ cmake --build "$BUILD" -j"${VT_JOBS:-$(nproc)}" -- --no-print-directory >/dev/nu
 SEEDS=$DIR/seeds
 rm -rf "$SEEDS"
 "$BUILD/make_seeds" "$SEEDS" >/dev/null
-mkdir -p "$SEEDS/pattern_yaml"
+mkdir -p "$SEEDS/pattern_yaml" "$SEEDS/pattern_garmentcode"
 cp "$REPO"/test/fuzz/corpus/mesh_io/* "$SEEDS/mesh_io/"
 cp "$REPO"/test/fuzz/corpus/pattern_yaml/* "$SEEDS/pattern_yaml/"
+cp "$REPO"/test/fuzz/corpus/pattern_garmentcode/* "$SEEDS/pattern_garmentcode/"
 for f in "$REPO"/config/patterns/*/*.yaml; do
   cp "$f" "$SEEDS/pattern_yaml/$(basename "$(dirname "$f")")_$(basename "$f")"
 done

@@ -6,6 +6,7 @@
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
 #include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 #include <virtual_tryon/Drape.h>
@@ -24,6 +25,8 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <mutex>
 #include <string>
 
@@ -179,6 +182,44 @@ TEST(DrapeService, BadPatternsFailWithAReason) {
   res = call(request(toMsg(capsule(), "body"), pattern));
   EXPECT_FALSE(res.success);
   EXPECT_TRUE(contains(res.message, "seam 2")) << res.message;
+}
+
+// A GarmentCode specification in the message: read at the request's spacing, placed on the body by
+// the rule, sewn into one piece (the referee counts its loops).
+TEST(DrapeService, DrapesAGarmentCodeSpecificationOnTheProceduralBody) {
+  std::ifstream in(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/test/data/garmentcode/vest_specification.json");
+  std::ostringstream text;
+  text << in.rdbuf();
+  ASSERT_FALSE(text.str().empty());
+  vt::GarmentPattern pattern;
+  pattern.header.frame_id = "body";
+  pattern.garmentcode_json = text.str();
+  const vt::TriMesh body = vt::makeProceduralBody();
+  Drape::Request req = request(toMsg(body, "body"), pattern);
+  req.spacing = 0;  // the node's drape/spacing
+  Drape::Response res = call(req);
+  // The plumbing: read, placed and sewn into one piece. (Its strain, which decides `converged`, is
+  // the core's GarmentCodeDrape test: the node's float32 body gives a slightly different drape.)
+  ASSERT_TRUE(res.success) << res.message;
+  EXPECT_EQ(res.report.seams_open, 0u) << res.report.message;
+  EXPECT_EQ(res.report.boundary_loops, res.report.openings);
+  const vt::TriMesh g = returnedGarment(res);
+  const vt::ReferenceCounts ref = vt::referenceCounts(body, g);
+  EXPECT_EQ(ref.garment_edge_crossings, 0u);
+  EXPECT_EQ(ref.body_edge_crossings, 0u);
+  EXPECT_EQ(ref.vertices_inside, 0u);
+  EXPECT_EQ(ref.boundary_loops, 4u);
+
+  // Bad specifications fail with the place named; the node keeps serving.
+  pattern.garmentcode_json = text.str().substr(0, text.str().size() / 2);
+  res = call(request(toMsg(body, "body"), pattern));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "garmentcode_json: not valid JSON")) << res.message;
+  pattern = patternMsg(bag(), "body");
+  pattern.garmentcode_json = text.str();
+  res = call(request(toMsg(body, "body"), pattern));
+  EXPECT_FALSE(res.success);
+  EXPECT_TRUE(contains(res.message, "both set")) << res.message;
 }
 
 TEST(DrapeService, PatternInAnotherFrameIsTransformedIntoTheBodyFrame) {
