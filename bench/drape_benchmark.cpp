@@ -4,7 +4,11 @@
 //   DATA_DIR default ../shared/data (or $VT_DATA); PATTERN_DIR default config/patterns/hm08;
 //   PROCEDURAL_PATTERN_DIR default config/patterns/procedural.
 // Prints Markdown tables: the procedural body always, body_hm08 when the data is there. Image-space
-// figures are the median of 5 runs, object space one run.
+// figures are the median of 5 runs, object space one run. The first table: every pattern at the
+// default spacing on both bodies, ours next to GarmentCode's (DATA_DIR/garmentcode/*.json, placed
+// by the placement rule), median of 3 runs.
+#include "virtual_tryon/core/drape/pattern_placement.h"
+#include "virtual_tryon/core/io/pattern_garmentcode.h"
 #include "virtual_tryon/core/io/pattern_yaml.h"
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/drape/drape.h"
@@ -57,6 +61,46 @@ constexpr int kRepeats = 5;  // image-space runs; object space (100x slower) run
 
 }  // namespace
 
+// Every pattern at the default spacing: ours (YAML) and GarmentCode's (placed by the rule).
+void defaultSpacingTable(const std::string& bodyName, const vt::Body& body, const std::string& ourDir,
+                         const std::string& gcDir) {
+  const double spacing = vt::DrapeParams().spacing;
+  std::printf("## Drape on %s at the default spacing (%.2f m): our patterns and GarmentCode's\n\n", bodyName.c_str(), spacing);
+  std::printf("| garment | pattern | vertices | iterations (sewing) | total s | ms/iteration | seams open | loops / openings | crossings / inside (referee) | strain max (returned) | placement lift m | converged |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<std::pair<std::string, std::string>> items;
+  for (const char* g : {"skirt", "trousers", "sleeveless_shirt", "tshirt", "dress"}) items.emplace_back(g, ourDir + "/" + g + ".yaml");
+  for (const char* g : {"shirt_mean", "hoody_mean"}) items.emplace_back(g, gcDir + "/" + g + "_specification.json");
+  for (const auto& [name, path] : items) {
+    vt::Pattern pattern;
+    std::string err;
+    const bool gc = path.size() > 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+    double lift = 0;
+    if (gc) {
+      vt::GarmentCodeReadParams rp;
+      rp.spacing = spacing;
+      vt::GarmentCodeReport rep;
+      if (!vt::readGarmentCodeJson(path, rp, pattern, rep, err)) {
+        std::printf("| %s | GarmentCode | missing: %s |\n", name.c_str(), err.c_str());
+        continue;
+      }
+      lift = vt::placePatternOnBody(body, pattern).lift.lift;
+    } else if (!vt::readPatternYaml(path, pattern, err)) {
+      std::printf("| %s | ours | missing: %s |\n", name.c_str(), err.c_str());
+      continue;
+    }
+    vt::TriMesh out;
+    const vt::DrapeResult r = run(body, pattern, spacing, vt::CollisionMode::ImageSpace, 8000, true, out, 3);
+    const vt::ReferenceCounts c = vt::referenceCounts(body.mesh(), out);
+    std::printf("| %s | %s | %zu | %d (%d) | %.2f | %.3f | %d | %zu / %zu | %zu / %zu | %.3f | %s | %s |\n", name.c_str(),
+                gc ? "GarmentCode" : "ours", r.vertices, r.iterations, r.sew_iterations, r.seconds_total,
+                1e3 * r.seconds_per_iteration, r.seams_open, c.boundary_loops, r.openings,
+                c.garment_edge_crossings + c.body_edge_crossings, c.vertices_inside, r.strain_max_final,
+                gc ? std::to_string(lift).substr(0, 5).c_str() : "-", r.converged ? "yes" : ("no: " + r.message).c_str());
+  }
+  std::printf("\n");
+}
+
 void proceduralTable(const std::string& dir) {
   const vt::TriMesh mesh = vt::makeProceduralBody();
   vt::Body body(mesh);
@@ -86,10 +130,20 @@ int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : (std::getenv("VT_DATA") ? std::getenv("VT_DATA") : "../shared/data");
   const std::string patterns = argc > 2 ? argv[2] : "config/patterns/hm08";
   const std::string proceduralPatterns = argc > 3 ? argv[3] : "config/patterns/procedural";
-  proceduralTable(proceduralPatterns);
+  {
+    vt::Body procedural(vt::makeProceduralBody());
+    defaultSpacingTable("the procedural body", procedural, proceduralPatterns, data + "/garmentcode");
+  }
   vt::TriMesh bodyMesh;
   std::string err;
-  if (!vt::readMesh(data + "/body_hm08.obj", bodyMesh, err)) {
+  const bool haveData = vt::readMesh(data + "/body_hm08.obj", bodyMesh, err);
+  if (haveData) {
+    vt::Body hm08(bodyMesh);
+    defaultSpacingTable("body_hm08", hm08, patterns, data + "/garmentcode");
+  }
+  if (std::getenv("VT_DEFAULT_SPACING_ONLY")) return 0;
+  proceduralTable(proceduralPatterns);
+  if (!haveData) {
     std::printf("drape_benchmark: no shared data at '%s' (%s); skipping\n", data.c_str(), err.c_str());
     return 0;
   }

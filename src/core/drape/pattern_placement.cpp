@@ -91,20 +91,27 @@ SeamLift seamLift(const Body& body, const Pattern& pattern, const SeamLiftParams
   }
   out.lines = static_cast<int>(lines.size());
   const int steps = static_cast<int>(std::floor(params.max_lift / params.step + 1e-9));
-  int best = -1;
-  for (int s = 0; s <= steps; ++s) {
+  auto blockedAt = [&](int s) {
     const Eigen::Vector3d up(0, s * params.step, 0);
     int blocked = 0;
     for (const Line& l : lines)
       if (lineBlocked(body, l.a + up, l.b + up, params)) ++blocked;
+    return blocked;
+  };
+  int best = -1, bestStep = 0;
+  for (int s = 0; s <= steps; ++s) {
+    const int blocked = blockedAt(s);
     if (s == 0) out.blocked_before = blocked;
     if (best < 0 || blocked < best) {
       best = blocked;
-      out.lift = s * params.step;
-      out.blocked_after = blocked;
+      bestStep = s;
     }
     if (blocked == 0) break;
   }
+  if (bestStep == 0 && best == out.blocked_before && best > 0) return out;  // lifting does not help
+  const int s = std::min(steps, bestStep + std::max(0, params.margin_steps));
+  out.lift = s * params.step;
+  out.blocked_after = s == bestStep ? best : blockedAt(s);
   return out;
 }
 

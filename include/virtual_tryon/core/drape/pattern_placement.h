@@ -24,20 +24,22 @@ constexpr double kGarmentCodeBodyHeight = 1.72;  // metres
 // the two sides of each seam at `fractions` evenly spread arc-length fractions of both stretches
 // (lines shorter than min_length left out: they weld where they are), blocked when a point every
 // `step` along the line is inside the body or nearer to it than `clearance` (a line grazing the
-// body stalls as surely as one through it). Needs a closed body (pointInsideBody); an open one
-// gives lift 0.
+// body stalls as surely as one through it), then `margin_steps` steps more (a lift that only just
+// clears a shoulder still left GarmentCode's shirt caught on body_hm08's: 1 cm stalled two seams,
+// 2 cm sewed them all). Needs a closed body (pointInsideBody); an open one gives lift 0.
 struct SeamLiftParams {
   double step = 0.01;        // metres
   double max_lift = 0.15;    // metres
   int fractions = 9;
   double clearance = 0.01;   // metres
   double min_length = 0.03;  // metres
+  int margin_steps = 1;
 };
 
 struct SeamLift {
   double lift = 0;                              // metres, along +y
   int lines = 0;                                // seam lines tested
-  int blocked_before = 0, blocked_after = 0;    // of them, at lift 0 and at `lift`
+  int blocked_before = 0, blocked_after = 0;    // of them, at lift 0 and at `lift` (margin included)
 };
 
 
