@@ -6,6 +6,7 @@
 #   fuzz_mesh_io       OBJ / PLY / STL files -> readMesh, validateBody
 #   fuzz_pattern_yaml  pattern YAML -> parsePatternYaml, write and read back, meshPattern
 #   fuzz_pattern_garmentcode  GarmentCode JSON -> parseGarmentCodeJson, meshPattern
+#   fuzz_point_cache   Point Cache 2 -> parsePointCache, written back to the same bytes
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]   (TARGET without the fuzz_ prefix; default all)
 # Each target's corpus grows in .ws_fuzz/corpus/TARGET; crashes, leaks and UB are written to
 # .ws_fuzz/artifacts/ and make the script exit non-zero. VT_FUZZ_JOBS (default 1) runs that many
@@ -16,7 +17,7 @@ REPO=$(cd "$HERE/.." && pwd)
 SECONDS_EACH=${1:-5}
 shift || true
 TARGETS=("$@")
-if ((${#TARGETS[@]} == 0)); then TARGETS=(polygon_mesh point_cloud mesh_io pattern_yaml pattern_garmentcode); fi
+if ((${#TARGETS[@]} == 0)); then TARGETS=(polygon_mesh point_cloud mesh_io pattern_yaml pattern_garmentcode point_cache); fi
 DIR=${VT_FUZZ_DIR:-$REPO/.ws_fuzz}
 BUILD=$DIR/build
 JOBS=${VT_FUZZ_JOBS:-1}
@@ -30,10 +31,11 @@ cmake --build "$BUILD" -j"${VT_JOBS:-$(nproc)}" -- --no-print-directory >/dev/nu
 SEEDS=$DIR/seeds
 rm -rf "$SEEDS"
 "$BUILD/make_seeds" "$SEEDS" >/dev/null
-mkdir -p "$SEEDS/pattern_yaml" "$SEEDS/pattern_garmentcode"
+mkdir -p "$SEEDS/pattern_yaml" "$SEEDS/pattern_garmentcode" "$SEEDS/point_cache"
 cp "$REPO"/test/fuzz/corpus/mesh_io/* "$SEEDS/mesh_io/"
 cp "$REPO"/test/fuzz/corpus/pattern_yaml/* "$SEEDS/pattern_yaml/"
 cp "$REPO"/test/fuzz/corpus/pattern_garmentcode/* "$SEEDS/pattern_garmentcode/"
+cp "$REPO"/test/fuzz/corpus/point_cache/* "$SEEDS/point_cache/"
 for f in "$REPO"/config/patterns/*/*.yaml; do
   cp "$f" "$SEEDS/pattern_yaml/$(basename "$(dirname "$f")")_$(basename "$f")"
 done

@@ -1,0 +1,139 @@
+// Point Cache 2: round trip, every refusal (before allocation where a size is declared), and
+// tryon animate resolve on a small moving scene of the project's own.
+#include "virtual_tryon/core/io/mesh_io.h"
+#include "virtual_tryon/core/io/point_cache.h"
+#include "virtual_tryon/core/scenes/procedural.h"
+
+#include "test_helpers.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <limits>
+
+using namespace virtual_tryon;
+using namespace virtual_tryon_test;
+
+namespace {
+
+PointCache smallCache() {
+  PointCache c;
+  c.points = 3;
+  c.start_frame = 2;
+  c.sample_rate = 1;
+  for (int s = 0; s < 4; ++s) {
+    MatrixX3d X(3, 3);
+    for (int i = 0; i < 3; ++i) X.row(i) = Eigen::RowVector3d(0.25 * i, 0.5 * s, -1.0 + i * s);
+    c.samples.push_back(X);
+  }
+  return c;
+}
+
+std::string errorOf(const std::string& bytes, int expect = -1, const PointCacheLimits& limits = PointCacheLimits()) {
+  PointCache c;
+  std::string err;
+  EXPECT_FALSE(parsePointCache(bytes, c, err, expect, limits));
+  EXPECT_FALSE(err.empty());
+  return err;
+}
+
+void setInt(std::string& bytes, std::size_t at, std::int32_t v) { std::memcpy(&bytes[at], &v, 4); }  // little-endian host
+
+}  // namespace
+
+TEST(PointCache, RoundTripsExactlyForFloatValues) {
+  const PointCache c = smallCache();
+  const std::string bytes = pointCacheBytes(c);
+  EXPECT_EQ(bytes.size(), 32u + 4 * 3 * 12);
+  EXPECT_EQ(bytes.substr(0, 12), std::string("POINTCACHE2\0", 12));
+  PointCache back;
+  std::string err;
+  ASSERT_TRUE(parsePointCache(bytes, back, err, 3)) << err;
+  EXPECT_EQ(back.points, 3);
+  EXPECT_EQ(back.start_frame, 2.0f);
+  ASSERT_EQ(back.samples.size(), 4u);
+  for (int s = 0; s < 4; ++s) EXPECT_EQ(back.samples[s], c.samples[s]);
+  const std::string dir = tempDir("pc2");
+  ASSERT_TRUE(writePointCache(dir + "/c.pc2", c, err)) << err;
+  ASSERT_TRUE(readPointCache(dir + "/c.pc2", back, err)) << err;
+  EXPECT_EQ(back.samples[3], c.samples[3]);
+}
+
+TEST(PointCache, RefusesWhatDoesNotAddUp) {
+  const std::string good = pointCacheBytes(smallCache());
+  EXPECT_TRUE(contains(errorOf("POINTCACHE2"), "shorter than the 32-byte header"));
+  std::string bad = good;
+  bad[0] = 'X';
+  EXPECT_TRUE(contains(errorOf(bad), "signature"));
+  bad = good;
+  setInt(bad, 12, 2);
+  EXPECT_TRUE(contains(errorOf(bad), "version 2"));
+  EXPECT_TRUE(contains(errorOf(good.substr(0, good.size() - 4)), "truncated"));
+  EXPECT_TRUE(contains(errorOf(good + "xx"), "trailing bytes"));
+  EXPECT_TRUE(contains(errorOf(good, 4), "3 points, the mesh 4 vertices"));
+  bad = good;
+  setInt(bad, 16, -1);
+  EXPECT_TRUE(contains(errorOf(bad), "negative"));
+  // A declared size far beyond the bytes and the limits is refused from the header alone.
+  bad = good;
+  setInt(bad, 16, 2000000000);
+  EXPECT_TRUE(contains(errorOf(bad), "over the limits"));
+  PointCacheLimits tight;
+  tight.max_samples = 3;
+  EXPECT_TRUE(contains(errorOf(good, -1, tight), "over the limits"));
+  bad = good;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&bad[32 + 36 + 4], &nan, 4);  // sample 1 (36 bytes on), point 0, y
+  EXPECT_TRUE(contains(errorOf(bad), "sample 1, point 0 is not finite"));
+  PointCache c;
+  std::string err;
+  EXPECT_FALSE(readPointCache("/nonexistent/a.pc2", c, err));
+  EXPECT_TRUE(contains(err, "/nonexistent/a.pc2"));
+  PointCache wrong = smallCache();
+  wrong.samples[2].conservativeResize(2, 3);
+  EXPECT_FALSE(writePointCache(tempDir("pc2w") + "/w.pc2", wrong, err));
+  EXPECT_TRUE(contains(err, "sample 2"));
+}
+
+// The wrinkled tube scene moved rigidly over 5 frames: every frame resolved on its own, clean by the
+// referee, and the correction moves with the scene within the moving-body issue's 3 mm of jitter
+// (measured 2.4 mm: the float32 cache's rounding of the moved inputs changes a few of the
+// resolver's decisions).
+TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
+  const ResolveScene scene = makeWrinkledTubeScene();
+  const std::string dir = tempDir("animate");
+  save(dir + "/body.obj", scene.body);
+  save(dir + "/garment.obj", scene.garment);
+  PointCache body, garment;
+  body.points = static_cast<int>(scene.body.V.rows());
+  garment.points = static_cast<int>(scene.garment.V.rows());
+  for (int f = 0; f < 5; ++f) {
+    const Eigen::RowVector3d shift(0.01 * f, 0.002 * f, 0);
+    body.samples.push_back(scene.body.V.rowwise() + shift);
+    garment.samples.push_back(scene.garment.V.rowwise() + shift);
+  }
+  std::string err;
+  ASSERT_TRUE(writePointCache(dir + "/body.pc2", body, err)) << err;
+  ASSERT_TRUE(writePointCache(dir + "/garment.pc2", garment, err)) << err;
+  const CliRun run = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir + "/body.pc2 --garment " +
+                                dir + "/garment.obj --garment-cache " + dir + "/garment.pc2 --out " + dir + "/out.pc2 --check",
+                            dir + "/err.txt");
+  ASSERT_EQ(run.code, 0) << run.out << run.err;
+  EXPECT_TRUE(contains(run.out, "\"frames\": 5")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"frames_with_referee_findings\": 0")) << run.out;
+  PointCache out;
+  ASSERT_TRUE(readPointCache(dir + "/out.pc2", out, err, garment.points)) << err;
+  ASSERT_EQ(out.samples.size(), 5u);
+  // Frame 0 moved something, and every frame's correction is frame 0's within 3 mm.
+  const MatrixX3d c0 = out.samples[0] - garment.samples[0];
+  EXPECT_GT(c0.rowwise().norm().maxCoeff(), 1e-4);
+  for (int f = 1; f < 5; ++f)
+    EXPECT_LT(((out.samples[f] - garment.samples[f]) - c0).rowwise().norm().maxCoeff(), 3e-3) << f;
+  // Mismatched caches: exit 2 with the reason.
+  const CliRun bad = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir + "/garment.pc2 --garment " +
+                                dir + "/garment.obj --garment-cache " + dir + "/garment.pc2 --out " + dir + "/o.pc2",
+                            dir + "/err2.txt");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(contains(bad.err, "points, the mesh")) << bad.err;
+}
