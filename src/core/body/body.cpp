@@ -2,7 +2,11 @@
 
 #include "core/geometry/fcl_bvh.h"
 
+#include <fcl/math/bv/utility.h>  // fit(), which BVHModel::refit needs and BVH_model.h does not include
+
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 namespace virtual_tryon {
 
@@ -14,18 +18,68 @@ Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   boundingBox(mesh_, box_min_, box_max_);
 }
 
+Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mesh_.F} {
+  if (mesh_.V.rows() != previous.mesh_.V.rows())
+    throw std::invalid_argument("a new frame of a body needs its " + std::to_string(previous.mesh_.V.rows()) +
+                                " vertices, got " + std::to_string(mesh_.V.rows()));
+  face_normals_ = virtual_tryon::faceNormals(mesh_);
+  topology_ = previous.topology_;
+  mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
+  signed_volume_ = virtual_tryon::signedVolume(mesh_);
+  boundingBox(mesh_, box_min_, box_max_);
+  std::call_once(adjacency_once_, [&] {  // previous's lists (built now if they were not)
+    edges_ = previous.edges();
+    face_edges_ = previous.faceEdges();
+    computeEdgeNormals();
+    adjacency_built_ = true;
+  });
+  std::call_once(vertex_adjacency_once_, [&] {
+    vertex_face_start_ = previous.vertexFaceStart();
+    vertex_faces_ = previous.vertexFaces();
+    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
+  });
+  if (previous.bvh_built_)
+    std::call_once(bvh_once_, [&] {
+      const auto t0 = std::chrono::steady_clock::now();
+      bvh_ = previous.bvh_->refitted(mesh_);
+      bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      bvh_built_ = true;
+      bvh_refitted_ = true;
+    });
+}
+
+void Body::computeEdgeNormals() const {
+  edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
+  for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
+    for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
+  for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
+    const double len = edge_normals_.row(e).norm();
+    if (len > 0) edge_normals_.row(e) /= len;
+  }
+}
+
 void Body::buildAdjacency() const {
   std::call_once(adjacency_once_, [this] {
     edges_ = uniqueEdges(mesh_, &face_edges_);
-    edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
-    for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
-      for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
-    for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
-      const double len = edge_normals_.row(e).norm();
-      if (len > 0) edge_normals_.row(e) /= len;
-    }
+    computeEdgeNormals();
     adjacency_built_ = true;
   });
+}
+
+std::unique_ptr<BodyBVH> BodyBVH::refitted(const TriMesh& mesh) const {
+  auto out = std::make_unique<BodyBVH>();
+  out->model = std::make_shared<FclModel>(*model);
+  std::vector<fcl::Vector3d> pts(static_cast<std::size_t>(mesh.V.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) pts[static_cast<std::size_t>(i)] = mesh.V.row(i).transpose();
+  out->model->beginUpdateModel();
+  out->model->updateSubModel(pts);
+  out->model->endUpdateModel(true, true);
+  if (tree_) {
+    auto tree = std::make_unique<FaceBoxTree>(*tree_);
+    tree->refit(mesh.V, mesh.F);
+    std::call_once(out->tree_once_, [&] { out->tree_ = std::move(tree); });
+  }
+  return out;
 }
 
 void Body::buildVertexAdjacency() const {

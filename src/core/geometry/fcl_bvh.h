@@ -26,6 +26,9 @@ class BodyBVH {
   // The box tree of the edge-face detection (face_box_tree.h), built on first use.
   const FaceBoxTree& faceTree(const TriMesh& mesh) const;
 
+  // A copy of these trees refitted to the same faces on new vertex positions (body.cpp).
+  std::unique_ptr<BodyBVH> refitted(const TriMesh& mesh) const;
+
  private:
   mutable std::once_flag tree_once_;
   mutable std::unique_ptr<FaceBoxTree> tree_;

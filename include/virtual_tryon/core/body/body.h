@@ -20,6 +20,14 @@ class BodyBVH;
 class Body {
  public:
   explicit Body(TriMesh mesh);
+  // A new frame of `previous`'s body (a body that moves): the same faces, new vertex positions V
+  // (#V by 3, as many as previous has; else std::invalid_argument). What depends on the faces alone
+  // is reused (edge topology, the edge list, the faces round each vertex: built on previous first if
+  // it had not built them); normals, bounds, volume
+  // and mean edge length are computed for V; previous's face trees, when built, are copied and
+  // refitted to V (same tree, new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried
+  // over (the body moved).
+  Body(const Body& previous, MatrixX3d V);
   ~Body();
   Body(const Body&) = delete;
   Body& operator=(const Body&) = delete;
@@ -51,6 +59,7 @@ class Body {
   // The face trees; built on the first call (thread-safe), then reused.
   const BodyBVH& bvh() const;
   bool bvhBuilt() const { return bvh_built_; }
+  bool bvhRefitted() const { return bvh_refitted_; }  // refitted from a previous frame's trees
   double bvhBuildSeconds() const { return bvh_seconds_; }
 
   // Front/back depth and normal maps for image-space collisions, rendered on the first call for
@@ -62,6 +71,7 @@ class Body {
  private:
   void buildAdjacency() const;
   void buildVertexAdjacency() const;
+  void computeEdgeNormals() const;
 
   TriMesh mesh_;
   MatrixX3d face_normals_;
@@ -82,6 +92,7 @@ class Body {
   mutable std::unique_ptr<BodyBVH> bvh_;
   mutable std::atomic<bool> bvh_built_{false};
   mutable double bvh_seconds_ = 0;
+  bool bvh_refitted_ = false;
 
   mutable std::mutex maps_mutex_;
   mutable std::shared_ptr<const DepthMaps> maps_;
