@@ -43,6 +43,8 @@ TEST(BodyFrame, RefittedTreesAnswerAsFreshOnes) {
   EXPECT_TRUE(frame.edgeNormals().isApprox(fresh.edgeNormals(), 1e-15));
   EXPECT_TRUE(frame.vertexNormals().isApprox(fresh.vertexNormals(), 1e-15));
   EXPECT_EQ(frame.boxMin(), fresh.boxMin());
+  EXPECT_NEAR(frame.meanEdgeLength(), fresh.meanEdgeLength(), 1e-15);
+  EXPECT_NEAR(frame.signedVolume(), fresh.signedVolume(), 1e-15);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Eigen::Vector3d c = 0.5 * (fresh.boxMin() + fresh.boxMax()), h = 0.6 * (fresh.boxMax() - fresh.boxMin());
@@ -58,6 +60,15 @@ TEST(BodyFrame, RefittedTreesAnswerAsFreshOnes) {
   EXPECT_EQ(a.body_edge_crossings_before, b.body_edge_crossings_before);
   EXPECT_EQ(a.converged, b.converged);
   EXPECT_EQ(g1.V, g2.V);
+  // Moved from: the same answers again, the trees refitted in place.
+  Body first(scene.body);
+  first.bvh();
+  const Body taken(std::move(first), moved);
+  EXPECT_TRUE(taken.bvhRefitted());
+  EXPECT_EQ(taken.edges(), fresh.edges());
+  TriMesh g3{bent(scene.garment.V, 0.8), scene.garment.F};
+  resolvePenetrations(taken, g3);
+  EXPECT_EQ(g3.V, g2.V);
   // A frame of another size is refused.
   EXPECT_THROW(Body(rest, MatrixX3d::Zero(3, 3)), std::invalid_argument);
 }

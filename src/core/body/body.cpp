@@ -18,18 +18,34 @@ Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   boundingBox(mesh_, box_min_, box_max_);
 }
 
-Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mesh_.F} {
-  if (mesh_.V.rows() != previous.mesh_.V.rows())
-    throw std::invalid_argument("a new frame of a body needs its " + std::to_string(previous.mesh_.V.rows()) +
-                                " vertices, got " + std::to_string(mesh_.V.rows()));
+// A frame's geometry from its vertices and the edge list it shares with the frame before (the
+// same list, in the same order, as meanEdgeLength's uniqueEdges gives: the same mean).
+void Body::computeFrameGeometry() {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
-  topology_ = previous.topology_;
-  mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
   signed_volume_ = virtual_tryon::signedVolume(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
+  double sum = 0;
+  for (Eigen::Index e = 0; e < edges_.rows(); ++e) sum += (mesh_.V.row(edges_(e, 0)) - mesh_.V.row(edges_(e, 1))).norm();
+  mean_edge_length_ = edges_.rows() ? sum / static_cast<double>(edges_.rows()) : 0.0;
+}
+
+namespace {
+
+void checkFrameSize(Eigen::Index previous, Eigen::Index now) {
+  if (now != previous)
+    throw std::invalid_argument("a new frame of a body needs its " + std::to_string(previous) + " vertices, got " +
+                                std::to_string(now));
+}
+
+}  // namespace
+
+Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mesh_.F} {
+  checkFrameSize(previous.mesh_.V.rows(), mesh_.V.rows());
+  topology_ = previous.topology_;
   std::call_once(adjacency_once_, [&] {  // previous's lists (built now if they were not)
     edges_ = previous.edges();
     face_edges_ = previous.faceEdges();
+    computeFrameGeometry();
     computeEdgeNormals();
     adjacency_built_ = true;
   });
@@ -46,6 +62,38 @@ Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mes
       bvh_built_ = true;
       bvh_refitted_ = true;
     });
+}
+
+Body::Body(Body&& previous, MatrixX3d V) {
+  checkFrameSize(previous.mesh_.V.rows(), V.rows());
+  previous.buildAdjacency();
+  previous.buildVertexAdjacency();
+  mesh_.F = std::move(previous.mesh_.F);
+  mesh_.V = std::move(V);
+  topology_ = std::move(previous.topology_);
+  std::call_once(adjacency_once_, [&] {
+    edges_ = std::move(previous.edges_);
+    face_edges_ = std::move(previous.face_edges_);
+    computeFrameGeometry();
+    computeEdgeNormals();
+    adjacency_built_ = true;
+  });
+  std::call_once(vertex_adjacency_once_, [&] {
+    vertex_face_start_ = std::move(previous.vertex_face_start_);
+    vertex_faces_ = std::move(previous.vertex_faces_);
+    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
+  });
+  if (previous.bvh_built_)
+    std::call_once(bvh_once_, [&] {
+      const auto t0 = std::chrono::steady_clock::now();
+      bvh_ = std::move(previous.bvh_);
+      bvh_->refit(mesh_);
+      bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      bvh_built_ = true;
+      bvh_refitted_ = true;
+    });
+  previous.bvh_built_ = false;
+  previous.adjacency_built_ = false;
 }
 
 void Body::computeEdgeNormals() const {
@@ -69,17 +117,21 @@ void Body::buildAdjacency() const {
 std::unique_ptr<BodyBVH> BodyBVH::refitted(const TriMesh& mesh) const {
   auto out = std::make_unique<BodyBVH>();
   out->model = std::make_shared<FclModel>(*model);
-  std::vector<fcl::Vector3d> pts(static_cast<std::size_t>(mesh.V.rows()));
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) pts[static_cast<std::size_t>(i)] = mesh.V.row(i).transpose();
-  out->model->beginUpdateModel();
-  out->model->updateSubModel(pts);
-  out->model->endUpdateModel(true, true);
   if (tree_) {
     auto tree = std::make_unique<FaceBoxTree>(*tree_);
-    tree->refit(mesh.V, mesh.F);
     std::call_once(out->tree_once_, [&] { out->tree_ = std::move(tree); });
   }
+  out->refit(mesh);
   return out;
+}
+
+void BodyBVH::refit(const TriMesh& mesh) {
+  std::vector<fcl::Vector3d> pts(static_cast<std::size_t>(mesh.V.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) pts[static_cast<std::size_t>(i)] = mesh.V.row(i).transpose();
+  model->beginUpdateModel();
+  model->updateSubModel(pts);
+  model->endUpdateModel(true, true);
+  if (tree_) tree_->refit(mesh.V, mesh.F);
 }
 
 void Body::buildVertexAdjacency() const {

@@ -28,6 +28,8 @@ class BodyBVH {
 
   // A copy of these trees refitted to the same faces on new vertex positions (body.cpp).
   std::unique_ptr<BodyBVH> refitted(const TriMesh& mesh) const;
+  // These trees refitted in place (not while anyone queries them).
+  void refit(const TriMesh& mesh);
 
  private:
   mutable std::once_flag tree_once_;

@@ -28,6 +28,9 @@ class Body {
   // refitted to V (same tree, new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried
   // over (the body moved).
   Body(const Body& previous, MatrixX3d V);
+  // The same, taking previous's lists and trees instead of copying them (previous is left empty:
+  // only to be destroyed or assigned). What a stream of frames uses.
+  Body(Body&& previous, MatrixX3d V);
   ~Body();
   Body(const Body&) = delete;
   Body& operator=(const Body&) = delete;
@@ -72,6 +75,7 @@ class Body {
   void buildAdjacency() const;
   void buildVertexAdjacency() const;
   void computeEdgeNormals() const;
+  void computeFrameGeometry();
 
   TriMesh mesh_;
   MatrixX3d face_normals_;
