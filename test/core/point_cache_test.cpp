@@ -130,6 +130,18 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
   EXPECT_GT(c0.rowwise().norm().maxCoeff(), 1e-4);
   for (int f = 1; f < 5; ++f)
     EXPECT_LT(((out.samples[f] - garment.samples[f]) - c0).rowwise().norm().maxCoeff(), 3e-3) << f;
+  // --warm-start: each frame starts from the last frame's correction, and is still checked whole.
+  const CliRun warm = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir + "/body.pc2 --garment " +
+                                 dir + "/garment.obj --garment-cache " + dir + "/garment.pc2 --out " + dir +
+                                 "/warm.pc2 --check --warm-start",
+                             dir + "/errw.txt");
+  ASSERT_EQ(warm.code, 0) << warm.out << warm.err;
+  EXPECT_TRUE(contains(warm.out, "\"frames_with_referee_findings\": 0")) << warm.out;
+  PointCache warmOut;
+  ASSERT_TRUE(readPointCache(dir + "/warm.pc2", warmOut, err, garment.points)) << err;
+  const MatrixX3d w0 = warmOut.samples[0] - garment.samples[0];
+  for (int f = 1; f < 5; ++f)
+    EXPECT_LT(((warmOut.samples[f] - garment.samples[f]) - w0).rowwise().norm().maxCoeff(), 3e-3) << f;
   // Mismatched caches: exit 2 with the reason.
   const CliRun bad = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir + "/garment.pc2 --garment " +
                                 dir + "/garment.obj --garment-cache " + dir + "/garment.pc2 --out " + dir + "/o.pc2",
