@@ -3,6 +3,7 @@
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/io/json_object.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/io/pattern_garmentcode.h"
@@ -320,11 +321,7 @@ Eigen::Isometry3d explicitPlacement(const std::string& text) {
     throw Usage("--placement must be auto, none, or 'TX TY TZ [RX RY RZ]' (metres, degrees), got '" + text + "'");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-  if (v.size() == 6) {
-    const double k = 3.14159265358979323846 / 180;
-    T.linear() = (Eigen::AngleAxisd(v[5] * k, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(v[4] * k, Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(v[3] * k, Eigen::Vector3d::UnitX())).toRotationMatrix();
-  }
+  if (v.size() == 6) T.linear() = vt::garmentCodeRotation(Eigen::Vector3d(v[3], v[4], v[5]));
   return T;
 }
 
@@ -339,15 +336,19 @@ bool isGarmentCodeFile(const std::string& path) {
 
 // The stitches of a GarmentCode pattern as JSON: lengths and what each seam takes in.
 std::string stitchesJson(const vt::GarmentCodeReport& rep) {
-  std::ostringstream o;
-  o << "[";
+  std::string out = "[";
   for (std::size_t i = 0; i < rep.stitches.size(); ++i) {
     const vt::GarmentCodeStitch& s = rep.stitches[i];
-    o << (i ? ", " : "") << "{\"a\": \"" << s.panel_a << ":" << s.edge_a << "\", \"b\": \"" << s.panel_b << ":"
-      << s.edge_b << "\", \"length_a\": " << s.length_a << ", \"length_b\": " << s.length_b
-      << ", \"take_in\": " << std::abs(s.length_a - s.length_b) << ", \"seams\": " << s.seams.size() << "}";
+    out += (i ? ", " : "") + vt::json::Obj()
+                                 .add("a", s.panel_a + ":" + std::to_string(s.edge_a))
+                                 .add("b", s.panel_b + ":" + std::to_string(s.edge_b))
+                                 .add("length_a", s.length_a)
+                                 .add("length_b", s.length_b)
+                                 .add("take_in", std::abs(s.length_a - s.length_b))
+                                 .add("seams", s.seams.size())
+                                 .str();
   }
-  return o.str() + "]";
+  return out + "]";
 }
 
 // Reads a YAML pattern, or a GarmentCode specification (sampled at `spacing`) placed on the body
@@ -394,8 +395,12 @@ int convertPattern(const std::map<std::string, std::string>& opt) {
   std::ofstream f(out);
   f << vt::patternToYaml(pattern);
   if (!f) throw std::runtime_error(out + ": cannot write");
-  std::cout << "{\"panels\": " << pattern.panels.size() << ", \"seams\": " << pattern.seams.size()
-            << ", \"openings\": " << vt::patternOpenings(pattern) << ", \"stitches\": " << stitchesJson(rep) << "}"
+  std::cout << vt::json::Obj()
+                   .add("panels", pattern.panels.size())
+                   .add("seams", pattern.seams.size())
+                   .add("openings", vt::patternOpenings(pattern))
+                   .json("stitches", stitchesJson(rep))
+                   .str()
             << std::endl;
   return 0;
 }
@@ -510,22 +515,30 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     previousCorrection = correction;
     result.samples[f] = garment.V;
     if (!rep.converged) ++notConverged;
-    std::ostringstream line;
-    line << "{\"frame\": " << f << ", \"converged\": " << (rep.converged ? "true" : "false")
-         << ", \"crossings_before\": " << rep.garment_edge_crossings_before + rep.body_edge_crossings_before
-         << ", \"crossings_after\": " << rep.garment_edge_crossings_after + rep.body_edge_crossings_after
-         << ", \"inside_before\": " << rep.vertices_inside_before << ", \"inside_after\": " << rep.vertices_inside_after
-         << ", \"iterations\": " << rep.iterations << ", \"max_displacement_m\": " << rep.max_displacement
-         << ", \"max_edge_strain\": " << rep.max_edge_strain << ", \"p99_edge_strain\": " << rep.p99_edge_strain
-         << ", \"strain_vs_input_max\": " << strainVsInput
-         << ", \"max_correction_m\": " << correction.rowwise().norm().maxCoeff() << ", \"jitter_m\": " << jitter << ", \"ms\": " << frameMs << ", \"ms_body\": " << bodyMs << ", \"ms_resolve\": " << 1e3 * rep.seconds_total;
+    vt::json::Obj line;
+    line.add("frame", f)
+        .add("converged", rep.converged)
+        .add("crossings_before", rep.garment_edge_crossings_before + rep.body_edge_crossings_before)
+        .add("crossings_after", rep.garment_edge_crossings_after + rep.body_edge_crossings_after)
+        .add("inside_before", rep.vertices_inside_before)
+        .add("inside_after", rep.vertices_inside_after)
+        .add("iterations", rep.iterations)
+        .add("max_displacement_m", rep.max_displacement)
+        .add("max_edge_strain", rep.max_edge_strain)
+        .add("p99_edge_strain", rep.p99_edge_strain)
+        .add("strain_vs_input_max", strainVsInput)
+        .add("max_correction_m", correction.rowwise().norm().maxCoeff())
+        .add("jitter_m", jitter)
+        .add("ms", frameMs)
+        .add("ms_body", bodyMs)
+        .add("ms_resolve", 1e3 * rep.seconds_total);
     if (check) {
       const vt::ReferenceCounts c = vt::referenceCounts(body.mesh(), garment, body.closed());
       const std::size_t dirty = c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside;
       if (dirty) ++refereeDirty;
-      line << ", \"referee\": " << vt::toJson(c);
+      line.json("referee", vt::toJson(c));
     }
-    std::cout << line.str() << "}" << std::endl;
+    std::cout << line.str() << std::endl;
   }
   if (!vt::writePointCache(out, result, err)) throw std::runtime_error(err);
   std::vector<double> sorted = ms;
@@ -533,13 +546,19 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   double mean = 0;
   for (double m : ms) mean += m;
   mean = ms.empty() ? 0 : mean / ms.size();
-  std::cout << "{\"summary\": {\"frames\": " << ms.size() << ", \"not_converged\": " << notConverged
-            << ", \"ms_mean\": " << mean << ", \"ms_median\": " << (sorted.empty() ? 0 : sorted[sorted.size() / 2])
-            << ", \"ms_max\": " << (sorted.empty() ? 0 : sorted.back()) << ", \"jitter_max_m\": " << jitterMax
-            << ", \"body_trees_refitted\": " << refitted << ", \"body_trees_built\": " << ms.size() - refitted
-            << ", \"rebuilt_per_frame\": \"body normals, bounds, volume\", \"reused\": \"body topology, edge and vertex-face lists; face trees refitted\"";
-  if (check) std::cout << ", \"frames_with_referee_findings\": " << refereeDirty;
-  std::cout << "}}" << std::endl;
+  vt::json::Obj summary;
+  summary.add("frames", ms.size())
+      .add("not_converged", notConverged)
+      .add("ms_mean", mean)
+      .add("ms_median", sorted.empty() ? 0.0 : sorted[sorted.size() / 2])
+      .add("ms_max", sorted.empty() ? 0.0 : sorted.back())
+      .add("jitter_max_m", jitterMax)
+      .add("body_trees_refitted", refitted)
+      .add("body_trees_built", ms.size() - refitted)
+      .add("rebuilt_per_frame", std::string("body normals, bounds, volume"))
+      .add("reused", std::string("body topology, edge and vertex-face lists; face trees refitted"));
+  if (check) summary.add("frames_with_referee_findings", refereeDirty);
+  std::cout << vt::json::Obj().json("summary", summary.str()).str() << std::endl;
   return notConverged == 0 && refereeDirty == 0 ? 0 : 3;
 }
 

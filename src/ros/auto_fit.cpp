@@ -5,7 +5,6 @@
 // one of the same kind; fits of the two kinds are kept apart, so neither is lost.
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
-#include "virtual_tryon/core/io/pattern_garmentcode.h"
 #include "virtual_tryon/ros/tryon_node.h"
 
 #include <exception>
@@ -53,20 +52,11 @@ void TryonNode::onPattern(const virtual_tryon::GarmentPattern::ConstPtr& msg) {
   try {
     Pattern pattern;
     std::string error;
-    bool ok = false;
-    if (!msg->garmentcode_json.empty()) {  // read once here to refuse a bad one at once; placed at drape time
-      GarmentCodeReadParams rp;
-      rp.spacing = settings_.drape.spacing;
-      GarmentCodeReport report;
-      ok = msg->panels.empty() && msg->seams.empty() &&
-           parseGarmentCodeJson(msg->garmentcode_json, rp, pattern, report, error);
-      if (!msg->panels.empty() || !msg->seams.empty()) error = "garmentcode_json and panels / seams are both set";
-    } else {
-      ok = rc::fromMsg(*msg, pattern, error) && (error = validatePattern(pattern)).empty();
-    }
+    bool placedOnBody = false;  // no body here: a check; the drape places it
+    const bool ok = patternFromMsg(*msg, settings_.drape.spacing, nullptr, pattern, placedOnBody, error);
     if (!ok) {
       ROS_ERROR_STREAM("tryon_node: rejected message on " << pattern_sub_.getTopic()
-                                                          << ": pattern: " << error
+                                                          << ": " << error
                                                           << " (keeping the previous pattern)");
       return;
     }

@@ -96,12 +96,23 @@ void moveOutput(Output& out, Response& r) {
   r.report = std::move(out.report);
 }
 
-// Converts and validates a pattern message; errors start with "pattern: ". A GarmentCode
-// specification (msg.garmentcode_json) is read at `spacing`; `placedOnBody` tells whether it was
-// placed in the body's frame by the placement rule (`body` given) rather than left in the
-// message's frame (use_placement, or no body: a check only).
-bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, double spacing, const Body* body, Pattern& pattern,
-                    bool& placedOnBody, std::string& error) {
+void logDrape(const DrapeResult& report) {
+  ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
+           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %zu boundary loops for "
+           "%zu openings, largest strain %.3f, %s",
+           report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
+           report.penetrating_before_resolve, report.penetrating_after,
+           report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
+           report.boundary_loops, report.openings, report.strain_max_final,
+           report.converged ? "converged" : "NOT converged");
+  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
+  for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
+}
+
+}  // namespace
+
+bool TryonNode::patternFromMsg(const virtual_tryon::GarmentPattern& msg, double spacing, const Body* body,
+                               Pattern& pattern, bool& placedOnBody, std::string& error) {
   placedOnBody = false;
   if (!msg.garmentcode_json.empty()) {
     if (!msg.panels.empty() || !msg.seams.empty()) {
@@ -150,21 +161,6 @@ bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, double spacing, co
   }
   return true;
 }
-
-void logDrape(const DrapeResult& report) {
-  ROS_INFO("tryon_node: drape: %d iterations (%d sewing), %.3f s, %zu vertices, penetrating "
-           "vertices %zu before / %zu after the resolver%s, %d of %d seams open, %zu boundary loops for "
-           "%zu openings, largest strain %.3f, %s",
-           report.iterations, report.sew_iterations, report.seconds_total, report.vertices,
-           report.penetrating_before_resolve, report.penetrating_after,
-           report.resolver_run ? "" : " (not run)", report.seams_open, report.seams_total,
-           report.boundary_loops, report.openings, report.strain_max_final,
-           report.converged ? "converged" : "NOT converged");
-  if (!report.converged) ROS_WARN_STREAM("tryon_node: " << report.message);
-  for (const std::string& w : report.warnings) ROS_WARN_STREAM("tryon_node: drape: " << w);
-}
-
-}  // namespace
 
 DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
                                            const ResolverParams& resolver) {

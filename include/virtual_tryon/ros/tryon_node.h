@@ -145,6 +145,11 @@ class TryonNode {
   // The node's drape parameters with the request's over them (zero / empty fields keep the node's);
   // false with `error` when the result is invalid.
   bool drapeParams(const DrapeInput& in, DrapeParams& params, std::string& error) const;
+  // drape_handler.cpp: a pattern message converted and validated (a GarmentCode specification read
+  // at `spacing` and, with a body, placed on it by the rule: placedOnBody); errors start with
+  // "pattern: ". Without a body: a check only (the topic's, before the pattern is kept).
+  static bool patternFromMsg(const virtual_tryon::GarmentPattern& msg, double spacing, const Body* body,
+                             Pattern& pattern, bool& placedOnBody, std::string& error);
 
   // Body for a request: the topic body when the request's is empty, else a Body built from the
   // request (or a cached one when its geometry is identical).

@@ -42,26 +42,9 @@ void checkFrameSize(Eigen::Index previous, Eigen::Index now) {
 Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mesh_.F} {
   checkFrameSize(previous.mesh_.V.rows(), mesh_.V.rows());
   topology_ = previous.topology_;
-  std::call_once(adjacency_once_, [&] {  // previous's lists (built now if they were not)
-    edges_ = previous.edges();
-    face_edges_ = previous.faceEdges();
-    computeFrameGeometry();
-    computeEdgeNormals();
-    adjacency_built_ = true;
-  });
-  std::call_once(vertex_adjacency_once_, [&] {
-    vertex_face_start_ = previous.vertexFaceStart();
-    vertex_faces_ = previous.vertexFaces();
-    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
-  });
-  if (previous.bvh_built_)
-    std::call_once(bvh_once_, [&] {
-      const auto t0 = std::chrono::steady_clock::now();
-      bvh_ = previous.bvh_->refitted(mesh_);
-      bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      bvh_built_ = true;
-      bvh_refitted_ = true;
-    });
+  // previous's lists (built now if they were not) and a copy of its trees
+  adoptFrame(previous.edges(), previous.faceEdges(), previous.vertexFaceStart(), previous.vertexFaces(),
+             previous.bvh_built_ ? previous.bvh_->copy() : nullptr);
 }
 
 Body::Body(Body&& previous, MatrixX3d V) {
@@ -71,29 +54,37 @@ Body::Body(Body&& previous, MatrixX3d V) {
   mesh_.F = std::move(previous.mesh_.F);
   mesh_.V = std::move(V);
   topology_ = std::move(previous.topology_);
+  adoptFrame(std::move(previous.edges_), std::move(previous.face_edges_), std::move(previous.vertex_face_start_),
+             std::move(previous.vertex_faces_), previous.bvh_built_ ? std::move(previous.bvh_) : nullptr);
+  previous.bvh_built_ = false;
+  previous.adjacency_built_ = false;
+}
+
+// The shared part of both frame constructors: the frame's own geometry over the lists of the
+// frame before, and its trees (when it had them) refitted to this frame's vertices.
+void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
+                      std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees) {
   std::call_once(adjacency_once_, [&] {
-    edges_ = std::move(previous.edges_);
-    face_edges_ = std::move(previous.face_edges_);
+    edges_ = std::move(edges);
+    face_edges_ = std::move(faceEdges);
     computeFrameGeometry();
     computeEdgeNormals();
     adjacency_built_ = true;
   });
   std::call_once(vertex_adjacency_once_, [&] {
-    vertex_face_start_ = std::move(previous.vertex_face_start_);
-    vertex_faces_ = std::move(previous.vertex_faces_);
+    vertex_face_start_ = std::move(vertexFaceStart);
+    vertex_faces_ = std::move(vertexFaces);
     vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
   });
-  if (previous.bvh_built_)
+  if (trees)
     std::call_once(bvh_once_, [&] {
       const auto t0 = std::chrono::steady_clock::now();
-      bvh_ = std::move(previous.bvh_);
-      bvh_->refit(mesh_);
+      trees->refit(mesh_);
+      bvh_ = std::move(trees);
       bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       bvh_built_ = true;
       bvh_refitted_ = true;
     });
-  previous.bvh_built_ = false;
-  previous.adjacency_built_ = false;
 }
 
 void Body::computeEdgeNormals() const {
@@ -114,14 +105,13 @@ void Body::buildAdjacency() const {
   });
 }
 
-std::unique_ptr<BodyBVH> BodyBVH::refitted(const TriMesh& mesh) const {
+std::unique_ptr<BodyBVH> BodyBVH::copy() const {
   auto out = std::make_unique<BodyBVH>();
   out->model = std::make_shared<FclModel>(*model);
   if (tree_) {
     auto tree = std::make_unique<FaceBoxTree>(*tree_);
     std::call_once(out->tree_once_, [&] { out->tree_ = std::move(tree); });
   }
-  out->refit(mesh);
   return out;
 }
 

@@ -26,9 +26,10 @@ class BodyBVH {
   // The box tree of the edge-face detection (face_box_tree.h), built on first use.
   const FaceBoxTree& faceTree(const TriMesh& mesh) const;
 
-  // A copy of these trees refitted to the same faces on new vertex positions (body.cpp).
-  std::unique_ptr<BodyBVH> refitted(const TriMesh& mesh) const;
-  // These trees refitted in place (not while anyone queries them).
+  // A copy of these trees (body.cpp).
+  std::unique_ptr<BodyBVH> copy() const;
+  // These trees refitted in place to the same faces on new vertex positions (not while anyone
+  // queries them).
   void refit(const TriMesh& mesh);
 
  private:

@@ -265,10 +265,7 @@ PatternPanel buildPanel(PanelIn& p, double toMetres) {
     const MatrixX2d S = sampleEdge(p.edges[e], p.segments[e]);
     for (int k = 0; k < p.segments[e]; ++k) out.outline.row(row++) = S.row(k) * toMetres;
   }
-  const Eigen::Vector3d a = p.rotation * kPi / 180;
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Matrix3d R = garmentCodeRotation(p.rotation);
   out.placement.pose = Eigen::Isometry3d::Identity();
   out.placement.pose.linear() = R;
   out.placement.pose.translation() = p.translation * toMetres;
@@ -426,6 +423,13 @@ bool readGarmentCodeJson(const std::string& path, const GarmentCodeReadParams& p
     pattern.name = stem;
   }
   return true;
+}
+
+Eigen::Matrix3d garmentCodeRotation(const Eigen::Vector3d& degrees) {
+  const Eigen::Vector3d a = degrees * kPi / 180;
+  return (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
 }
 
 bool looksLikeJson(const std::string& text) {

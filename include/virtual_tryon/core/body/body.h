@@ -76,6 +76,8 @@ class Body {
   void buildVertexAdjacency() const;
   void computeEdgeNormals() const;
   void computeFrameGeometry();
+  void adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
+                  std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees);
 
   TriMesh mesh_;
   MatrixX3d face_normals_;

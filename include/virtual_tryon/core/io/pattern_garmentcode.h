@@ -5,6 +5,8 @@
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/io/garmentcode_edges.h"
 
+#include <Eigen/Core>
+
 #include <string>
 #include <vector>
 
@@ -65,6 +67,9 @@ bool parseGarmentCodeJson(const std::string& text, const GarmentCodeReadParams& 
 // Same, from a file; messages start with the path.
 bool readGarmentCodeJson(const std::string& path, const GarmentCodeReadParams& params, Pattern& pattern,
                          GarmentCodeReport& report, std::string& error);
+
+// GarmentCode's rotation (rotation.py, euler_xyz_to_R): Euler angles in degrees, R = Rz Ry Rx.
+Eigen::Matrix3d garmentCodeRotation(const Eigen::Vector3d& degrees);
 
 // True when `text` (a file's start) is JSON (its first non-blank character is '{'), so a reader can
 // pick the format by content as well as by extension.
