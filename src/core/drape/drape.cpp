@@ -303,6 +303,11 @@ class DrapeRun {
       // always makes its first detection pass and reports), unless its own budget is tighter.
       ResolverParams resolverParams = params_.resolver;
       if (params_.resolve_polish_strain > 0) resolverParams.relaxation.polish_strain = params_.resolve_polish_strain;
+      if (params_.resolve_rest_strain > 0) {
+        resolverParams.relaxation.rest_strain = params_.resolve_rest_strain;
+        for (const Spring& sp : cloth_->springs())
+          if (sp.type == SpringType::Structural) resolverParams.relaxation.rest_lengths.push_back({sp.a, sp.b, sp.rest});
+      }
       if (params_.time_budget > 0) {
         const double left = std::max(1e-3, params_.time_budget - since(tStart_));
         if (resolverParams.time_budget <= 0 || resolverParams.time_budget > left)
@@ -403,6 +408,7 @@ std::string validateDrapeParams(const DrapeParams& p) {
   if (p.max_sew_iterations < 1) return bad("max_sew_iterations", p.max_sew_iterations, ">= 1");
   if (!(p.settle_speed > 0)) return bad("settle_speed", p.settle_speed, "> 0 m/s");
   if (!(p.resolve_polish_strain >= 0)) return bad("resolve_polish_strain", p.resolve_polish_strain, ">= 0");
+  if (!(p.resolve_rest_strain >= 0)) return bad("resolve_rest_strain", p.resolve_rest_strain, ">= 0");
   if (!(p.max_strain >= 0) || !std::isfinite(p.max_strain)) return bad("max_strain", p.max_strain, ">= 0 (0: no limit)");
   if (!(p.weld_tolerance >= 0)) return bad("weld_tolerance", p.weld_tolerance, ">= 0 m");
   if (!(p.time_budget >= 0)) return bad("time_budget", p.time_budget, ">= 0 s");

@@ -11,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <limits>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -104,6 +105,7 @@ class ShapeRelaxation {
     }
     for (int v = 0; v < nv_; ++v)
       if (active_flag_[v]) active_.push_back(v);
+    takeRestLengths();
     clean_.resize(static_cast<std::size_t>(nv_));
     start_.resize(clean_.size());
     checked_.resize(clean_.size());
@@ -117,6 +119,23 @@ class ShapeRelaxation {
     held_.assign(clean_.size(), 0);
     quat_.assign(clean_.size(), Eigen::Quaterniond::Identity());
     rot_.assign(clean_.size(), Eigen::Matrix3d::Identity());
+  }
+
+  // edge_rest_: per garment edge, its listed rest length (0: none), when rest_strain > 0.
+  void takeRestLengths() {
+    if (!(p_.rest_strain > 0) || p_.rest_lengths.empty()) return;
+    edge_rest_.assign(static_cast<std::size_t>(topo_.edges.rows()), 0.0);
+    std::unordered_map<long long, Eigen::Index> index;
+    index.reserve(static_cast<std::size_t>(topo_.edges.rows()));
+    auto key = [](int a, int b) { return static_cast<long long>(std::min(a, b)) << 32 | static_cast<unsigned>(std::max(a, b)); };
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) index.emplace(key(topo_.edges(e, 0), topo_.edges(e, 1)), e);
+    for (const EdgeRestLength& r : p_.rest_lengths) {
+      if (r.a < 0 || r.b < 0 || r.a >= nv_ || r.b >= nv_ || !(r.rest > 0)) continue;
+      const auto it = index.find(key(r.a, r.b));
+      if (it == index.end()) continue;
+      double& rest = edge_rest_[static_cast<std::size_t>(it->second)];
+      rest = rest > 0 ? std::min(rest, r.rest) : r.rest;
+    }
   }
 
   // The tangent plane of the body at the nearest point to x; outside a ridge the direction from
@@ -266,7 +285,10 @@ class ShapeRelaxation {
       Eigen::RowVector3d ab = g_.V.row(b) - g_.V.row(a);
       const double l = ab.norm();
       if (!(l0 > 0) || !(l > 0)) continue;
-      const double target = std::clamp(l, (1 - s) * l0, (1 + s) * l0);
+      double upper = (1 + s) * l0;
+      if (!edge_rest_.empty() && edge_rest_[static_cast<std::size_t>(e)] > 0)
+        upper = std::min(upper, std::max(l0, (1 + p_.rest_strain) * edge_rest_[static_cast<std::size_t>(e)]));
+      const double target = std::clamp(l, (1 - s) * l0, upper);
       if (target == l) continue;
       const Eigen::RowVector3d corr = (l - target) / l * ab;
       const double wa = ma ? (mb ? 0.5 : 1.0) : 0.0;
@@ -474,6 +496,7 @@ class ShapeRelaxation {
   std::vector<int> active_, faces_;
   std::vector<char> active_flag_, moved_, stepping_, face_mark_;
   std::vector<double> floor_;
+  std::vector<double> edge_rest_;  // per garment edge: its rest length, 0: none (takeRestLengths)
   std::vector<int> held_;  // per vertex: the first sweep it may move again after a step back
   int sweep_ = 0;
   // Per vertex: at the start of this sweep, at the start of the stage (the resolver's clean state),

@@ -47,6 +47,10 @@ struct DrapeParams {
   // already carries its own strain, and at 0.2 the resolve added up to 0.15 more to the sleeveless
   // shirt's straps (0.064 -> 0.218). 0: the resolver's own.
   double resolve_polish_strain = 0.05;
+  // The final resolve also keeps every structural spring within (1 + this) of its rest length (or
+  // at its draped length, if it was longer already): a spring at 0.12 as draped gained the 0.05
+  // above and ended over max_strain (the procedural T-shirt at 3 cm: 0.123 -> 0.158). 0: off.
+  double resolve_rest_strain = 0.14;
   ResolverParams resolver;
   MeshLimits limits;           // the cloth's node count (meshPattern) is held to limits.max_vertices
 };

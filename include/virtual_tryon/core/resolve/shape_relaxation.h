@@ -39,8 +39,15 @@
 #include "virtual_tryon/core/resolve/intersections.h"
 
 #include <cstddef>
+#include <vector>
 
 namespace virtual_tryon {
+
+// One edge's rest length: garment vertices a and b, metres.
+struct EdgeRestLength {
+  int a = -1, b = -1;
+  double rest = 0;
+};
 
 struct ShapeRelaxationParams {
   int max_sweeps = 18;
@@ -62,9 +69,6 @@ struct ShapeRelaxationParams {
   // input vector as it is.
   bool local_rotations = true;
   int hold_sweeps = 6;            // a vertex that stepped back rests for this many sweeps
-  // After the sweeps, this many passes bring every edge strained beyond polish_strain back to it
-  // (vertices that stepped back too), each checked like a sweep; 0: none (one pass still projects
-  // the contacts found by the last check).
   // m; when > 0, with every crossing check: each body vertex under a checked garment face nearer to
   // it than this (along the vertex's normal) becomes a contact that keeps the face's point there
   // this far out. The vertex floors keep a face's corners out; this keeps the middle of a large
@@ -73,9 +77,19 @@ struct ShapeRelaxationParams {
   // also lifts, before the rounds, every face whose middle passes nearer than that (0: that
   // default; < 0: off, in both places).
   double face_clearance = 0;
+  // After the sweeps, this many passes bring every edge strained beyond polish_strain back to it
+  // (vertices that stepped back too), each checked like a sweep; 0: none (one pass still projects
+  // the contacts found by the last check).
   int polish_passes = 5;
   double polish_strain = 0.2;
   double time_budget = 0;         // s, 0: none
+  // A sewn garment's rest lengths (its structural springs in the flat pattern). With rest_strain
+  // > 0 both strain limits (the sweeps' and the polish's) also keep each listed edge within
+  // (1 + rest_strain) of its rest length, or at its input length where the input was already
+  // longer: the resolver does not stretch a draped garment's springs past what the drape allows.
+  // Edges not in the list, and pairs that are not edges, are left as without it.
+  std::vector<EdgeRestLength> rest_lengths;
+  double rest_strain = 0;
 };
 
 struct ShapeRelaxationReport {
