@@ -328,8 +328,29 @@ int ClothState::weldClosedSeams(double tolerance) {
   std::vector<int> rep(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) rep[i] = find(i);
   rebuildAfterWeld(rep);
+  relaxStretchedSprings(params_.weld_relax_passes);
   countOpenSeams();
   return count;
+}
+
+void ClothState::relaxStretchedSprings(int passes) {
+  const double limit = 1.0 + params_.stretch_threshold;
+  for (int pass = 0; pass < passes; ++pass) {
+    bool moved = false;
+    for (const Spring& sp : springs_) {
+      if (sp.type != SpringType::Structural) continue;
+      const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
+      const double len = d.norm(), bound = limit * sp.rest;
+      if (!(len > bound) || !(len > 0)) continue;
+      const double ia = 1.0 / m_[sp.a], ib = 1.0 / m_[sp.b];
+      const Eigen::RowVector3d corr = ((len - bound) / (len * (ia + ib))) * d;
+      x_.row(sp.a) += ia * corr;
+      x_.row(sp.b) -= ib * corr;
+      moved = true;
+    }
+    if (!moved) break;
+  }
+  over_valid_ = false;
 }
 
 void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {

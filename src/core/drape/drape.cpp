@@ -395,6 +395,8 @@ std::string validateDrapeParams(const DrapeParams& p) {
   if (!(c.stretch_threshold >= 0.01 && c.stretch_threshold <= 0.15))
     return bad("stretch_threshold", c.stretch_threshold, "0.01 .. 0.15");
   if (!(c.strain_restore >= 0 && c.strain_restore <= 1)) return bad("strain_restore", c.strain_restore, "0 .. 1");
+  if (c.weld_relax_passes < 0 || c.weld_relax_passes > 10000)
+    return bad("weld_relax_passes", c.weld_relax_passes, "0 .. 10000");
   if (!c.gravity.allFinite()) return "gravity is not finite";
   const CollisionParams& k = p.collision;
   if (!(k.tol > 0) || !std::isfinite(k.tol)) return bad("tol", k.tol, "> 0 m");

@@ -42,6 +42,14 @@ struct ClothParams {
   // stops an over-long spring from growing: what sewing stretched, and what the garment's weight
   // holds on its shoulders, stayed (springs 30-70% long). 0: off, 0 .. 1.
   double strain_restore = 0.0;
+  // A weld moves the two nodes of each seam pair to their mean, up to half the weld tolerance
+  // (7.5 mm at the default 1.5 cm) in one step: the springs at the welded nodes jumped to 0.4-0.9
+  // over their rest length (GarmentCode's shirt at its shoulder points), and where the body held
+  // the cloth the dynamics never took it back (0.39 at the end). After each weld this many
+  // Gauss-Seidel passes move the ends of every structural spring longer than (1 + stretch_
+  // threshold) rest back to that length (positions, each end by its inverse mass), so that the
+  // jump spreads over the rings round the seam. 0: off.
+  int weld_relax_passes = 30;
   double runaway_speed = 50.0;      // m/s: a faster node means the integration blew up
   // Spring forces four springs at a time with AVX2 + FMA when the processor has them (chosen at
   // run time; about half the time of the scalar loop). Off: the scalar loop everywhere. The two
@@ -128,6 +136,7 @@ class ClothState {
  private:
   void computeForces(bool sewing);
   void rebuildAfterWeld(const std::vector<int>& rep);
+  void relaxStretchedSprings(int passes);  // weld_relax_passes, see ClothParams
 
   ClothParams params_;
   double mass_ = 0;
