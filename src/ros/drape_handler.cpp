@@ -188,12 +188,14 @@ DrapeParams TryonNode::readDrapeParameters(const ros::NodeHandle& pnh,
   readChecked<double>(pnh, "drape/damping_rate", p, [](DrapeParams& q) -> double& { return q.cloth.damping_rate; });
   readChecked<double>(pnh, "drape/stretch_threshold", p,
                       [](DrapeParams& q) -> double& { return q.cloth.stretch_threshold; });
+  readChecked<int>(pnh, "drape/weld_relax_passes", p, [](DrapeParams& q) -> int& { return q.cloth.weld_relax_passes; });
   readChecked<double>(pnh, "drape/dt", p, [](DrapeParams& q) -> double& { return q.dt; });
   readChecked<bool>(pnh, "drape/clamp_dt", p, [](DrapeParams& q) -> bool& { return q.clamp_dt; });
   readChecked<int>(pnh, "drape/max_iterations", p, [](DrapeParams& q) -> int& { return q.max_iterations; });
   readChecked<double>(pnh, "drape/settle_speed", p, [](DrapeParams& q) -> double& { return q.settle_speed; });
   readChecked<double>(pnh, "drape/max_strain", p, [](DrapeParams& q) -> double& { return q.max_strain; });
   readChecked<bool>(pnh, "drape/resolve", p, [](DrapeParams& q) -> bool& { return q.resolve; });
+  readChecked<double>(pnh, "drape/resolve_rest_strain", p, [](DrapeParams& q) -> double& { return q.resolve_rest_strain; });
   readChecked<double>(pnh, "drape/time_budget", p, [](DrapeParams& q) -> double& { return q.time_budget; });
   ROS_INFO("tryon_node: drape: spacing %g m, %s space, tol %g m, map_size %d, friction %g, "
            "reflection %g, density %g kg/m^2, k %g/%g/%g/%g N/m (structural/shear/flexion/seam), "

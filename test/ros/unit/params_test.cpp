@@ -43,6 +43,8 @@ TEST(Params, DrapeDefaultsInParamsYamlAreTheCoreDefaults) {
   EXPECT_DOUBLE_EQ(num("settle_speed"), p.settle_speed);
   EXPECT_DOUBLE_EQ(num("time_budget"), p.time_budget);
   EXPECT_DOUBLE_EQ(num("max_strain"), p.max_strain);
+  EXPECT_DOUBLE_EQ(num("weld_relax_passes"), p.cloth.weld_relax_passes);
+  EXPECT_DOUBLE_EQ(num("resolve_rest_strain"), p.resolve_rest_strain);
   for (const char* key : {"clamp_dt", "resolve", "collision_mode"}) seen.insert(key);
   ASSERT_TRUE(d["clamp_dt"] && d["resolve"] && d["collision_mode"]);
   EXPECT_EQ(d["clamp_dt"].as<bool>(), p.clamp_dt);
