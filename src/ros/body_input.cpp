@@ -51,7 +51,8 @@ BodyPreparationParams TryonNode::bodyPreparation() const {
 }
 
 void TryonNode::onBody(const pcl_msgs::PolygonMesh::ConstPtr& msg) {
-  jobs_.post("body", [this, msg] { installBodyFromMesh(msg); });
+  // A body still waiting is replaced by this one (the queue keeps the latest): a frame never fitted.
+  if (jobs_.post("body", [this, msg] { installBodyFromMesh(msg); })) ++frames_dropped_;
 }
 
 void TryonNode::onScan(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -63,18 +64,11 @@ void TryonNode::installBodyFromMesh(const pcl_msgs::PolygonMesh::ConstPtr& msg) 
   std::string frame, error;
   if (!rc::fromMsg(*msg, mesh, error, settings_.limits)) error = "body: " + error;
   else if (bodyFrame(*msg, frame, error)) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (topic_body_.body && topic_body_.frame == frame && topic_body_.report.source == "mesh" &&
-          topic_body_.report.flipped == false && topic_body_.body->mesh().V == mesh.V &&
-          topic_body_.body->mesh().F == mesh.F) {
-        ROS_DEBUG("tryon_node: body on %s unchanged; nothing to do", body_sub_.getTopic().c_str());
-        return;
-      }
-    }
+    if (installBodyFrame(*msg, mesh, frame)) return;
     BodyPreparation prep = prepareBody(std::move(mesh), bodyPreparation());
     if (prep.ok) {
-      installBody(std::move(prep.mesh), frame, rc::toMsg(prep.check, "mesh"), std::move(prep.warnings));
+      installBody(std::move(prep.mesh), frame, rc::toMsg(prep.check, "mesh"), std::move(prep.warnings),
+                  msg->header.stamp);
       return;
     }
     error = prep.error;
@@ -134,7 +128,7 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
           std::lock_guard<std::mutex> lock(mutex_);
           last_scan_hash_ = hash;
         }
-        installBody(std::move(prep.mesh), frame, std::move(report), std::move(prep.warnings));
+        installBody(std::move(prep.mesh), frame, std::move(report), std::move(prep.warnings), msg->header.stamp);
         return;
       }
       // An unusable mesh is named as the body's; an inside-out one says so itself.
@@ -145,23 +139,89 @@ void TryonNode::installBodyFromScan(const sensor_msgs::PointCloud2::ConstPtr& ms
                                                       << " (keeping the previous body)");
 }
 
-void TryonNode::installBody(TriMesh mesh, const std::string& frame,
-                            virtual_tryon::BodyReport report, std::vector<std::string> warnings) {
+bool TryonNode::installBodyFrame(const pcl_msgs::PolygonMesh& msg, const TriMesh& mesh, const std::string& frame) {
+  BodyState previous;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    previous = topic_body_;
+  }
+  // Only a mesh body whose faces came as they are (not flipped) has the message's own faces.
+  if (!previous.body || previous.frame != frame || previous.report.source != "mesh" || previous.report.flipped ||
+      previous.body->mesh().V.rows() != mesh.V.rows() || previous.body->mesh().F != mesh.F)
+    return false;
+  if (!mesh.V.allFinite()) return false;  // the full path names what is wrong
+  if (!previous.stamp.isZero() && !msg.header.stamp.isZero() && msg.header.stamp < previous.stamp) {
+    ++frames_dropped_;
+    ROS_WARN_THROTTLE(5.0, "tryon_node: body frame stamped %.3f s is older than the installed %.3f s: dropped "
+                      "(%llu body frames not fitted so far)", msg.header.stamp.toSec(), previous.stamp.toSec(),
+                      static_cast<unsigned long long>(frames_dropped_.load()));
+    return true;
+  }
+  if (previous.body->mesh().V == mesh.V) {
+    ROS_DEBUG("tryon_node: body on %s unchanged; nothing to do", body_sub_.getTopic().c_str());
+    return true;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  BodyState state = previous;
+  state.body = std::make_shared<const Body>(*previous.body, mesh.V);
+  // The faces were checked with the first frame; a frame turned inside out (or flat) is a new body.
+  if (!(state.body->signedVolume() > 0)) return false;
+  state.report.signed_volume = state.body->signedVolume();
+  state.stamp = msg.header.stamp;
+  state.frame_index = previous.frame_index + 1;
+  state.refitted = true;
+  state.report.summary = "frame " + std::to_string(state.frame_index) + " of the body: faces and lists reused, " +
+                         (state.body->bvhRefitted() ? "trees refitted" : "trees built when first needed") + " (" +
+                         std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()).substr(0, 5) +
+                         " ms)";
+  ROS_DEBUG_STREAM("tryon_node: " << state.report.summary);
+  installState(state, /*newBody=*/false);
+  return true;
+}
+
+void TryonNode::installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report,
+                            std::vector<std::string> warnings, const ros::Time& stamp) {
   BodyState state;
   state.warnings = std::move(warnings);
   state.body = std::make_shared<const Body>(std::move(mesh));  // BVH and maps: lazily, when needed
   state.frame = frame;
   state.report = std::move(report);
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    topic_body_ = state;
-  }
+  state.stamp = stamp;
   for (const std::string& w : state.warnings) ROS_WARN_STREAM("tryon_node: " << w);
   ROS_INFO_STREAM("tryon_node: body from " << state.report.source << " in frame '" << frame
                                            << "': " << state.report.summary);
-  publishWorldTransform(state);
+  installState(state, /*newBody=*/true);
+}
+
+void TryonNode::installState(const BodyState& state, bool newBody) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // The frame this one replaces was installed for nothing if no fit took it (auto_fit).
+    if (!newBody && settings_.auto_fit && topic_body_.body && topic_body_.frame_index + 1 > fit_frame_mark_)
+      ++frames_dropped_;
+    if (newBody) fit_frame_mark_ = 0;
+    topic_body_ = state;
+  }
+  // The world placement follows the body as installed, not each frame (it would sway with it).
+  if (newBody) publishWorldTransform(state);
   publishBody(state);
   if (settings_.auto_fit) postFits();
+}
+
+std_msgs::Header TryonNode::fitHeader(const BodyState& body) {
+  std_msgs::Header header;
+  header.frame_id = body.frame;
+  // A frame of a moving body: its own stamp, so that each fit pairs with its frame. A body as first
+  // installed (or from a request): the time of the fit, so that successive fits of one body (a
+  // resolve and a drape) are told apart.
+  header.stamp = body.refitted && !body.stamp.isZero() ? body.stamp : ros::Time::now();
+  return header;
+}
+
+void TryonNode::noteFrame(virtual_tryon::FitReport& fit, const BodyState& body) const {
+  fit.body_frame_index = body.frame_index;
+  fit.body_refitted = body.refitted;
+  fit.frames_dropped = frames_dropped_.load();
 }
 
 void TryonNode::publishWorldTransform(const BodyState& state) {

@@ -317,6 +317,7 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   virtual_tryon::FitReport fit;
   fit.kind = "drape";
   fit.body = body.report;
+  noteFrame(fit, body);
   if (!report.success) {
     ROS_WARN_STREAM("tryon_node: drape failed: " << report.message);
     if (publish) {
@@ -327,9 +328,7 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
     }
     return true;
   }
-  std_msgs::Header header;
-  header.frame_id = body.frame;
-  header.stamp = ros::Time::now();
+  const std_msgs::Header header = fitHeader(body);
   rc::toMsg(garment, header, res.garment);
   logDrape(report);
 

@@ -96,6 +96,12 @@ DrapeReport toMsg(const DrapeResult& r, CollisionMode mode) {
   m.strain_mean = r.strain_mean;
   m.strain_max_final = r.strain_max_final;
   m.boundary_loops = u32(r.boundary_loops);
+  for (const DrapeResult::SeamLength& l : r.seam_lengths) {
+    m.seam_length_a.push_back(l.a);
+    m.seam_length_b.push_back(l.b);
+    m.seam_take_in.push_back(l.take_in);
+  }
+  m.seam_take_in_max = r.seam_take_in_max;
   m.openings = u32(r.openings);
   m.max_speed = r.max_speed;
   m.kinetic_energy = r.kinetic_energy;

@@ -233,6 +233,7 @@ bool TryonNode::requestBody(const pcl_msgs::PolygonMesh& msg, BodyState& out, st
       return false;
     }
     out = topic_body_;
+    fit_frame_mark_ = std::max(fit_frame_mark_, topic_body_.frame_index + 1);
     return true;
   }
   TriMesh mesh;
@@ -346,9 +347,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   const MatrixX3d before = garment.V;
   const ResolverReport report = resolvePenetrations(*body.body, garment, params);
 
-  std_msgs::Header header;
-  header.frame_id = body.frame;
-  header.stamp = ros::Time::now();
+  const std_msgs::Header header = fitHeader(body);
   rc::toMsg(garment, header, res.garment);
   res.report = rc::toMsg(report);
   res.report.body = body.report;
@@ -368,6 +367,7 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   fit.message = res.message;
   fit.body = body.report;
   fit.resolve = res.report;
+  noteFrame(fit, body);
   publishFit(fit, res.garment);
   TriMesh input;  // the garment as it came, for the fit map's edge strain
   input.V = before;

@@ -352,6 +352,10 @@ TEST_P(GarmentCodeDrape, VestOnTheProceduralBodyIsOnePieceWithItsOpenings) {
   EXPECT_TRUE(rep.converged) << rep.message;
   EXPECT_EQ(rep.seams_open, 0);
   EXPECT_LE(rep.strain_max_final, params.max_strain);
+  // The drape report says what each seam took in: the reader's stitch lengths, seam by seam.
+  ASSERT_EQ(rep.seam_lengths.size(), pattern.seams.size());
+  EXPECT_NEAR(rep.seam_take_in_max, takeIn, 1e-3);  // sampled outlines: within a millimetre
+  for (const DrapeResult::SeamLength& l : rep.seam_lengths) EXPECT_NEAR(l.take_in, std::abs(l.a - l.b), 1e-12);
   const ReferenceCounts c = ReferenceReferee(body.mesh()).count(garment);
   EXPECT_EQ(c.garment_edge_crossings, 0u);
   EXPECT_EQ(c.body_edge_crossings, 0u);

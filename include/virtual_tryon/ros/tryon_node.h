@@ -43,6 +43,7 @@
 #include <virtual_tryon/ResolvePenetration.h>
 
 #include <cstdint>
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -80,6 +81,9 @@ class TryonNode {
     std::string frame;
     virtual_tryon::BodyReport report;  // report.uncertainty: fits clear the mesh by that much more
     std::vector<std::string> warnings;  // found when it was installed; repeated in every response
+    ros::Time stamp;                    // of the message it came in (zero from a request)
+    std::uint64_t frame_index = 0;      // 0 as installed; n: the n-th frame of that body since
+    bool refitted = false;              // a frame of the body before it (Body(previous, V))
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
@@ -117,7 +121,16 @@ class TryonNode {
   // How the node prepares each body (prepareBody): its size limits; an inside-out body is flipped.
   BodyPreparationParams bodyPreparation() const;
   void installBody(TriMesh mesh, const std::string& frame, virtual_tryon::BodyReport report,
-                   std::vector<std::string> warnings);
+                   std::vector<std::string> warnings, const ros::Time& stamp);
+  // A ~body_mesh message with the installed body's faces and frame is a new frame of that body:
+  // installed as Body(previous, V) (no re-check, trees refitted). Returns false when the message is
+  // not such a frame (the caller prepares it as a new body); true when it was installed, dropped
+  // as stale (stamped before the installed frame) or unchanged.
+  bool installBodyFrame(const pcl_msgs::PolygonMesh& msg, const TriMesh& mesh, const std::string& frame);
+  void installState(const BodyState& state, bool newBody);  // topic body, world transform, ~body, fits
+  // The header of a fit's outputs: the body's frame; a refitted body frame's stamp, else now.
+  static std_msgs::Header fitHeader(const BodyState& body);
+  void noteFrame(virtual_tryon::FitReport& fit, const BodyState& body) const;
 
   // auto_fit.cpp
   void onGarment(const pcl_msgs::PolygonMesh::ConstPtr& msg);
@@ -202,6 +215,10 @@ class TryonNode {
   PatternState topic_pattern_;  // latest valid pattern from ~garment_pattern
   BodyState request_body_;  // last body built from a request, reused when equal
   std::uint64_t last_scan_hash_ = 0;  // of the last scan meshed (an unchanged scan is skipped)
+  std::atomic<std::uint64_t> frames_dropped_{0};  // body frames never fitted (FitReport)
+  // 1 + the frame index of the installed body's latest frame that a fit took (0: none yet); reset
+  // with each new body. A frame replaced before any fit took it is counted in frames_dropped_.
+  std::uint64_t fit_frame_mark_ = 0;
 
   std::mutex publish_mutex_;  // one publisher at a time: ~fitted_garment, ~fit_report, ~markers agree
 

@@ -67,6 +67,19 @@ std::string toJson(const ResolverReport& r) {
       .str();
 }
 
+namespace {
+
+// Each pattern seam's two stretch lengths and its take-in, metres: [{"a_m": .., "b_m": .., "take_in_m": ..}, ..].
+std::string seamLengthsJson(const std::vector<DrapeResult::SeamLength>& seams) {
+  std::string a = "[";
+  for (std::size_t i = 0; i < seams.size(); ++i)
+    a += (i ? ", " : "") +
+         json::Obj().add("a_m", seams[i].a).add("b_m", seams[i].b).add("take_in_m", seams[i].take_in).str();
+  return a + "]";
+}
+
+}  // namespace
+
 std::string toJson(const DrapeResult& r) {
   return Obj()
       .add("success", r.success)
@@ -96,6 +109,8 @@ std::string toJson(const DrapeResult& r) {
       .add("strain_max_final", r.strain_max_final)
       .add("boundary_loops", r.boundary_loops)
       .add("openings", r.openings)
+      .json("seams", seamLengthsJson(r.seam_lengths))
+      .add("seam_take_in_max_m", r.seam_take_in_max)
       .add("max_speed_m_per_s", r.max_speed)
       .add("kinetic_energy_j", r.kinetic_energy)
       .add("penetrating_before_resolve", r.penetrating_before_resolve)

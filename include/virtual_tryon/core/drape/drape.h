@@ -92,6 +92,14 @@ struct DrapeResult {
   // outline, patternOpenings()): a watertight garment has as many of the one as of the other, and
   // a converged drape must be watertight.
   std::size_t boundary_loops = 0, openings = 0;
+  // Per pattern seam, in the pattern's order: the lengths of its two outline stretches (m, flat
+  // pattern) and the length that the longer one takes in to be sewn to the shorter (their
+  // difference: ease or gathers); and the largest take-in of all.
+  struct SeamLength {
+    double a = 0, b = 0, take_in = 0;
+  };
+  std::vector<SeamLength> seam_lengths;
+  double seam_take_in_max = 0;
   double max_speed = 0, kinetic_energy = 0;    // at the end (instantaneous)
   double net_speed = 0;  // m/s: the last settle test's net rms speed over its window (0: none yet)
   // Garment vertices inside the body mesh (not the maps), before and after the resolver pass.
