@@ -91,6 +91,14 @@ void TryonNode::fitGarmentMesh() {
       ROS_INFO("tryon_node: auto_fit: garment mesh waiting for a body");
       return;
     }
+    // A moving body: a garment stamped after the installed frame, with a body waiting in the
+    // queue, belongs to that coming frame, whose install fits it (fitted on this frame, it would be
+    // corrected for a body it was not posed for: spikes of 3.4 on the walk).
+    if (topic_body_.refitted && topic_garment_.mesh && !topic_body_.stamp.isZero() &&
+        topic_garment_.header.stamp > topic_body_.stamp && jobs_.waiting("body")) {
+      ROS_DEBUG("tryon_node: auto_fit: the garment is stamped after the body frame; waiting for its frame");
+      return;
+    }
   }
   // The service's path with an empty request: the latest body and garment.
   virtual_tryon::ResolvePenetration::Request req;

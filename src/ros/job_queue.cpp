@@ -48,6 +48,11 @@ std::size_t LatestJobQueue::waiting() const {
   return order_.size();
 }
 
+bool LatestJobQueue::waiting(const std::string& key) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return jobs_.count(key) > 0;
+}
+
 std::size_t LatestJobQueue::replaced() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return replaced_;

@@ -30,6 +30,7 @@ class LatestJobQueue {
   // Blocks until nothing is waiting or running (tests and shutdown).
   void waitIdle();
   std::size_t waiting() const;
+  bool waiting(const std::string& key) const;  // a job with this key is waiting (not running)
   std::size_t replaced() const;  // jobs dropped because a newer one with their key came
 
  private:
