@@ -91,11 +91,13 @@ void TryonNode::fitGarmentMesh() {
       ROS_INFO("tryon_node: auto_fit: garment mesh waiting for a body");
       return;
     }
-    // A moving body: a garment stamped after the installed frame, with a body waiting in the
-    // queue, belongs to that coming frame, whose install fits it (fitted on this frame, it would be
-    // corrected for a body it was not posed for: spikes of 3.4 on the walk).
-    if (topic_body_.refitted && topic_garment_.mesh && !topic_body_.stamp.isZero() &&
-        topic_garment_.header.stamp > topic_body_.stamp && jobs_.waiting("body")) {
+    // A moving body: a garment stamped after the installed frame belongs to a frame to come, when
+    // a body is queued or the next frame is due (within two frame intervals); that frame's install
+    // fits it. Fitted on this frame, it would be corrected for a body it was not posed for (spikes
+    // of 3.4 on the walk). Past that, the body has stopped: the garment is fitted on the last frame.
+    const BodyState& b = topic_body_;
+    if (b.refitted && topic_garment_.mesh && !b.stamp.isZero() && topic_garment_.header.stamp > b.stamp &&
+        (jobs_.waiting("body") || topic_garment_.header.stamp <= b.stamp + b.frame_interval * 2.0)) {
       ROS_DEBUG("tryon_node: auto_fit: the garment is stamped after the body frame; waiting for its frame");
       return;
     }

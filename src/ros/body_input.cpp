@@ -168,6 +168,7 @@ bool TryonNode::installBodyFrame(const pcl_msgs::PolygonMesh& msg, const TriMesh
   if (!(state.body->signedVolume() > 0)) return false;
   state.report.signed_volume = state.body->signedVolume();
   state.stamp = msg.header.stamp;
+  state.frame_interval = previous.stamp.isZero() ? ros::Duration(0) : msg.header.stamp - previous.stamp;
   state.frame_index = previous.frame_index + 1;
   state.refitted = true;
   state.report.summary = "frame " + std::to_string(state.frame_index) + " of the body: faces and lists reused, " +

@@ -84,6 +84,7 @@ class TryonNode {
     ros::Time stamp;                    // of the message it came in (zero from a request)
     std::uint64_t frame_index = 0;      // 0 as installed; n: the n-th frame of that body since
     bool refitted = false;              // a frame of the body before it (Body(previous, V))
+    ros::Duration frame_interval;       // a frame: its stamp less the previous frame's
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
