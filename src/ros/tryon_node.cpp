@@ -100,9 +100,12 @@ TryonNode::TryonNode(ros::NodeHandle nh, ros::NodeHandle pnh)
   body_report_pub_ = pnh_.advertise<virtual_tryon::BodyReport>("body_report", 1, /*latch=*/true);
   fit_report_pub_ = pnh_.advertise<virtual_tryon::FitReport>("fit_report", 4, /*latch=*/true);
   // Queues of a few messages: a bag replayed fast must not drop a body or a garment.
-  body_sub_ = pnh_.subscribe("body_mesh", 2, &TryonNode::onBody, this);
+  // The callbacks only queue, so a deep subscriber queue costs nothing: frames of a moving body that
+  // come too fast are dropped by the node's own queue, which counts them (FitReport.frames_dropped),
+  // not by the transport, which would drop them unseen.
+  body_sub_ = pnh_.subscribe("body_mesh", 16, &TryonNode::onBody, this);
   scan_sub_ = pnh_.subscribe("body_scan", 2, &TryonNode::onScan, this);
-  garment_sub_ = pnh_.subscribe("garment_mesh", 4, &TryonNode::onGarment, this);
+  garment_sub_ = pnh_.subscribe("garment_mesh", 16, &TryonNode::onGarment, this);
   pattern_sub_ = pnh_.subscribe("garment_pattern", 4, &TryonNode::onPattern, this);
   resolve_srv_ = pnh_.advertiseService("resolve_penetration", &TryonNode::onResolve, this);
   drape_srv_ = pnh_.advertiseService("drape", &TryonNode::onDrape, this);

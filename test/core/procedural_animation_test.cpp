@@ -17,7 +17,7 @@ using namespace virtual_tryon;
 
 TEST(ProceduralAnimation, LegsStayTheTorsoTurnsAndFrameZeroIsRest) {
   ProceduralAnimationParams p;
-  p.frames = 9;  // a quarter sway at frame 7.5
+  p.frames = 9;
   const ProceduralAnimation a = makeProceduralAnimation(p);
   ASSERT_EQ(a.body_frames.size(), 9u);
   ASSERT_EQ(a.garment_frames.size(), 9u);
@@ -34,7 +34,7 @@ TEST(ProceduralAnimation, LegsStayTheTorsoTurnsAndFrameZeroIsRest) {
   EXPECT_EQ(legs, 0.0);
   // The head turns with the torso: about (neck height above the waist) x angle.
   const double angle = proceduralSwayAngle(p, 7);
-  EXPECT_NEAR(angle, p.amplitude * std::sin(2 * M_PI * 7 / 30.0), 1e-12);
+  EXPECT_NEAR(angle, p.amplitude * std::sin(2 * M_PI * 7 / 60.0), 1e-12);
   EXPECT_GT(head, 0.5 * (L.neck_y - L.waist_y) * std::abs(angle));
   // Above the blend the torso moves rigidly: distances between its vertices are kept.
   Eigen::Index a0 = -1, a1 = -1;
@@ -42,6 +42,12 @@ TEST(ProceduralAnimation, LegsStayTheTorsoTurnsAndFrameZeroIsRest) {
     if (a.body.V(i, 1) > L.chest_y) (a0 < 0 ? a0 : a1) = i;
   ASSERT_GE(a1, 0);
   EXPECT_NEAR((V.row(a0) - V.row(a1)).norm(), (a.body.V.row(a0) - a.body.V.row(a1)).norm(), 1e-12);
+}
+
+TEST(ProceduralAnimation, TheDefaultClipHasNoTwoFramesAlike) {
+  const ProceduralAnimation a = makeProceduralAnimation();  // as the animation bag is written
+  for (std::size_t f = 1; f < a.body_frames.size(); ++f)
+    EXPECT_GT((a.body_frames[f] - a.body_frames[f - 1]).cwiseAbs().maxCoeff(), 1e-4) << "frame " << f;
 }
 
 TEST(ProceduralAnimation, EveryFrameResolvesCleanOnItsRefittedBody) {

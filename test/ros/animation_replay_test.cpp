@@ -94,6 +94,8 @@ TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
     EXPECT_EQ(r->body_refitted, r->body_frame_index > 0);
     EXPECT_EQ(f == 0, r->body_frame_index == 0);
     dropped = std::max<std::uint64_t>(dropped, r->frames_dropped);
+    std::printf("fit of frame %d: node's frame index %llu, dropped so far %llu\n", f,
+                static_cast<unsigned long long>(r->body_frame_index), static_cast<unsigned long long>(r->frames_dropped));
     const auto g = garments.find(r->header.stamp);
     ASSERT_NE(g, garments.end()) << "no garment published with this report";
     vt::TriMesh body = anim.body;

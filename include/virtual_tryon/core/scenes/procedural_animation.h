@@ -15,7 +15,10 @@ struct ProceduralAnimationParams {
   int frames = 12;           // >= 1
   double rate = 30;          // frames per second
   double amplitude = 0.14;   // rad: the torso's largest side bend (about 8 degrees)
-  double period = 1.0;       // s: one sway, left and back and right and back
+  // s: one sway, left and back and right and back; a clip shorter than a quarter of it (15 frames at
+  // 30 Hz) bends one way only, so that no two of its frames are the same pose (a body frame equal
+  // to the one before is nothing new to the node).
+  double period = 2.0;
   double blend = 0.10;       // m: the bones' weights blend from waist - blend to waist + blend
 };
 
