@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -171,10 +172,12 @@ bool TryonNode::installBodyFrame(const pcl_msgs::PolygonMesh& msg, const TriMesh
   state.frame_interval = previous.stamp.isZero() ? ros::Duration(0) : msg.header.stamp - previous.stamp;
   state.frame_index = previous.frame_index + 1;
   state.refitted = true;
-  state.report.summary = "frame " + std::to_string(state.frame_index) + " of the body: faces and lists reused, " +
-                         (state.body->bvhRefitted() ? "trees refitted" : "trees built when first needed") + " (" +
-                         std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()).substr(0, 5) +
-                         " ms)";
+  char summary[160];
+  std::snprintf(summary, sizeof summary, "frame %llu of the body: faces and lists reused, %s (%.1f ms)",
+                static_cast<unsigned long long>(state.frame_index),
+                state.body->bvhRefitted() ? "trees refitted" : "trees built when first needed",
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  state.report.summary = summary;
   ROS_DEBUG_STREAM("tryon_node: " << state.report.summary);
   installState(state, /*newBody=*/false);
   return true;

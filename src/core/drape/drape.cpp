@@ -80,6 +80,18 @@ class CollisionResponse {
 };
 
 // One drape run: the stages of drape() on the state they share.
+// Each seam's two stretch lengths and what the longer takes in (DrapeResult::seam_lengths).
+void noteSeamLengths(const Pattern& pattern, DrapeResult& rep) {
+  for (const PatternSeam& seam : pattern.seams) {
+    DrapeResult::SeamLength l;
+    l.a = stretchLength(pattern, seam.a);
+    l.b = stretchLength(pattern, seam.b);
+    l.take_in = std::abs(l.a - l.b);
+    rep.seam_take_in_max = std::max(rep.seam_take_in_max, l.take_in);
+    rep.seam_lengths.push_back(l);
+  }
+}
+
 class DrapeRun {
  public:
   DrapeRun(const Body& body, const DrapeParams& params, const DrapeProgressCallback& progress,
@@ -134,14 +146,7 @@ class DrapeRun {
     cloth_.emplace(mesh, params_.cloth);
     rep_.seams_total = cloth_->openSeams();
     rep_.openings = static_cast<std::size_t>(patternOpenings(pattern));
-    for (const PatternSeam& seam : pattern.seams) {
-      DrapeResult::SeamLength l;
-      l.a = stretchLength(pattern, seam.a);
-      l.b = stretchLength(pattern, seam.b);
-      l.take_in = std::abs(l.a - l.b);
-      rep_.seam_take_in_max = std::max(rep_.seam_take_in_max, l.take_in);
-      rep_.seam_lengths.push_back(l);
-    }
+    noteSeamLengths(pattern, rep_);
     if (!chooseTimeStep()) return false;
     makeCollider();
     weldTol_ = params_.weld_tolerance > 0 ? params_.weld_tolerance : std::max(0.5 * params_.spacing, 0.015);
