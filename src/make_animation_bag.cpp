@@ -51,6 +51,51 @@ int usage(const std::string& why) {
   return 2;
 }
 
+// The animation the options name: the procedural one, or OBJ + PC2 (frames cut to --frames).
+bool loadAnimation(std::map<std::string, std::string>& opt, int frames, Animation& anim, std::string& error) {
+  if (opt.count("procedural")) {
+    vt::ProceduralAnimationParams p;
+    if (frames > 0) p.frames = frames;
+    vt::ProceduralAnimation a = vt::makeProceduralAnimation(p);
+    anim = {std::move(a.body), std::move(a.garment), std::move(a.body_frames), std::move(a.garment_frames), a.rate};
+    return true;
+  }
+  if (!opt.count("body") || !opt.count("body-cache")) return error = "--body and --body-cache (or --procedural)", false;
+  if (!loadCached(opt["body"], opt["body-cache"], anim.body, anim.body_frames, error)) return false;
+  if (opt.count("garment") != opt.count("garment-cache")) return error = "--garment and --garment-cache go together", false;
+  if (opt.count("garment") && !loadCached(opt["garment"], opt["garment-cache"], anim.garment, anim.garment_frames, error))
+    return false;
+  if (opt.count("rate")) anim.rate = std::stod(opt["rate"]);
+  if (!(anim.rate > 0)) return error = "--rate must be > 0 (frames per second)", false;
+  if (frames > 0) {
+    anim.body_frames.resize(std::min<std::size_t>(anim.body_frames.size(), static_cast<std::size_t>(frames)));
+    if (!anim.garment_frames.empty())
+      anim.garment_frames.resize(std::min(anim.garment_frames.size(), anim.body_frames.size()));
+  }
+  return true;
+}
+
+// Frame f at t0 + f / rate: its garment (when there is one), then its body, both with that stamp.
+void writeBag(const std::string& out, const std::string& node, const Animation& anim) {
+  const ros::Time t0(1700000000, 0);
+  std_msgs::Header header;
+  header.frame_id = "body";
+  rosbag::Bag bag(out, rosbag::bagmode::Write);
+  auto write = [&](const std::string& topic, const vt::TriMesh& rest, const vt::MatrixX3d& V, const ros::Time& t) {
+    vt::TriMesh m = rest;
+    m.V = V;
+    pcl_msgs::PolygonMesh msg;
+    vt::ros_conversions::toMsg(m, header, msg);
+    bag.write(node + topic, t, msg);
+  };
+  for (std::size_t f = 0; f < anim.body_frames.size(); ++f) {
+    header.stamp = t0 + ros::Duration(static_cast<double>(f) / anim.rate);
+    if (f < anim.garment_frames.size()) write("/garment_mesh", anim.garment, anim.garment_frames[f], header.stamp);
+    write("/body_mesh", anim.body, anim.body_frames[f], header.stamp + ros::Duration(1e-4));
+  }
+  bag.close();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,47 +117,8 @@ int main(int argc, char** argv) {
     if (opt.count("frames") && frames < 1) return usage("--frames must be >= 1");
     Animation anim;
     std::string error;
-    if (opt.count("procedural")) {
-      vt::ProceduralAnimationParams p;
-      if (frames > 0) p.frames = frames;
-      vt::ProceduralAnimation a = vt::makeProceduralAnimation(p);
-      anim = {std::move(a.body), std::move(a.garment), std::move(a.body_frames), std::move(a.garment_frames), a.rate};
-    } else {
-      if (!opt.count("body") || !opt.count("body-cache")) return usage("--body and --body-cache (or --procedural)");
-      if (!loadCached(opt["body"], opt["body-cache"], anim.body, anim.body_frames, error)) return usage(error);
-      if (opt.count("garment") != opt.count("garment-cache")) return usage("--garment and --garment-cache go together");
-      if (opt.count("garment") &&
-          !loadCached(opt["garment"], opt["garment-cache"], anim.garment, anim.garment_frames, error))
-        return usage(error);
-      if (opt.count("rate")) anim.rate = std::stod(opt["rate"]);
-      if (!(anim.rate > 0)) return usage("--rate must be > 0 (frames per second)");
-      if (frames > 0) {
-        anim.body_frames.resize(std::min<std::size_t>(anim.body_frames.size(), static_cast<std::size_t>(frames)));
-        if (!anim.garment_frames.empty())
-          anim.garment_frames.resize(std::min(anim.garment_frames.size(), anim.body_frames.size()));
-      }
-    }
-    const std::string node = opt.count("node") ? opt["node"] : "/tryon_node";
-    const ros::Time t0(1700000000, 0);
-    std_msgs::Header header;
-    header.frame_id = "body";
-    rosbag::Bag bag(out, rosbag::bagmode::Write);
-    for (std::size_t f = 0; f < anim.body_frames.size(); ++f) {
-      header.stamp = t0 + ros::Duration(static_cast<double>(f) / anim.rate);
-      if (f < anim.garment_frames.size()) {
-        vt::TriMesh g = anim.garment;
-        g.V = anim.garment_frames[f];
-        pcl_msgs::PolygonMesh msg;
-        vt::ros_conversions::toMsg(g, header, msg);
-        bag.write(node + "/garment_mesh", header.stamp, msg);
-      }
-      vt::TriMesh b = anim.body;
-      b.V = anim.body_frames[f];
-      pcl_msgs::PolygonMesh msg;
-      vt::ros_conversions::toMsg(b, header, msg);
-      bag.write(node + "/body_mesh", header.stamp + ros::Duration(1e-4), msg);
-    }
-    bag.close();
+    if (!loadAnimation(opt, frames, anim, error)) return usage(error);
+    writeBag(out, opt.count("node") ? opt["node"] : "/tryon_node", anim);
     std::cout << "make_animation_bag: wrote " << out << ": " << anim.body_frames.size() << " body frames ("
               << anim.body.V.rows() << " vertices) at " << anim.rate << " Hz, " << anim.garment_frames.size()
               << " garment frames\n";
