@@ -3,6 +3,7 @@
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/io/json_object.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/drape/pattern.h"
@@ -120,6 +121,17 @@ std::string usage() {
          "      input moved by the previous frame's correction (still resolved and checked whole).\n"
          "      Writes the resolved frames to OUT.pc2.\n"
          "      Exit 0 when every frame converged, 3 otherwise, 2 on bad input.\n"
+         "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
+         "                [--fps F] [--frames N] [--cloth-dt S] [--no-body-velocity] [--no-interpolate]\n"
+         "                [drape options]\n"
+         "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
+         "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
+         "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
+         "      between the two frames' depth maps, responding to the surface's velocity, and Sun\n"
+         "      et al.'s resolver corrects what is left inside. One JSON line per frame (steps,\n"
+         "      strain, crossings, milliseconds), then a summary. Writes OUT.obj (the garment on\n"
+         "      frame 0) and OUT.pc2 (every frame). Exit 0 when every frame converged, 3 when one\n"
+         "      did not or the cloth blew up (the frames before are written), 2 on bad input.\n"
          "  tryon demo --out DIR\n"
          "      Resolves the built-in procedural scene; writes body.obj, garment_in.obj,\n"
          "      garment_out.obj and report.json into DIR.\n"
@@ -136,7 +148,8 @@ struct Usage : std::runtime_error {
 };
 
 // Options without a value.
-const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start"};
+const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
+                                      "no-interpolate"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -405,10 +418,8 @@ int convertPattern(const std::map<std::string, std::string>& opt) {
   return 0;
 }
 
-int drape(const std::map<std::string, std::string>& opt) {
-  const std::string bodyPath = required(opt, "body");
-  const std::string patternPath = required(opt, "pattern");
-  const std::string out = required(opt, "out");
+// The drape's parameters from its options (tryon drape, tryon animate drape).
+vt::DrapeParams drapeParams(const std::map<std::string, std::string>& opt) {
   vt::DrapeParams p;
   p.spacing = number(opt, "spacing", p.spacing);
   if (opt.count("mode")) {
@@ -435,20 +446,33 @@ int drape(const std::map<std::string, std::string>& opt) {
   p.limits = meshLimits(opt);
   const std::string bad = vt::validateDrapeParams(p);
   if (!bad.empty()) throw std::invalid_argument(bad);
+  return p;
+}
 
-  const vt::Body body(loadBody(bodyPath, p.limits).mesh);
-  const vt::Pattern pattern = loadPattern(patternPath, p.spacing, &body, opt);
-  vt::TriMesh garment;
-  auto last = std::chrono::steady_clock::now();
-  const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, [&last](const vt::DrapeProgress& pr) {
+// Progress of a drape on stderr, at most every 2 s.
+vt::DrapeProgressCallback drapeProgress() {
+  auto last = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  return [last](const vt::DrapeProgress& pr) {
     const auto now = std::chrono::steady_clock::now();
-    if (now - last >= std::chrono::seconds(2)) {
-      last = now;
+    if (now - *last >= std::chrono::seconds(2)) {
+      *last = now;
       std::cerr << "tryon: drape: iteration " << pr.iteration << (pr.sewing ? " (sewing)" : " (draping)")
                 << ", " << pr.seconds << " s, max speed " << pr.max_speed << " m/s\n";
     }
     return true;
-  });
+  };
+}
+
+int drape(const std::map<std::string, std::string>& opt) {
+  const std::string bodyPath = required(opt, "body");
+  const std::string patternPath = required(opt, "pattern");
+  const std::string out = required(opt, "out");
+  const vt::DrapeParams p = drapeParams(opt);
+
+  const vt::Body body(loadBody(bodyPath, p.limits).mesh);
+  const vt::Pattern pattern = loadPattern(patternPath, p.spacing, &body, opt);
+  vt::TriMesh garment;
+  const vt::DrapeResult rep = vt::drape(body, pattern, p, garment, drapeProgress());
   std::cout << vt::toJson(rep) << std::endl;
   if (!rep.success) {
     std::cerr << "tryon: drape failed: " << rep.message << "\n";
@@ -460,16 +484,38 @@ int drape(const std::map<std::string, std::string>& opt) {
   return rep.converged ? 0 : 3;
 }
 
+// frames, ms_mean, ms_median and ms_max of per-frame milliseconds.
+void addFrameTimes(vt::json::Obj& summary, const std::vector<double>& ms) {
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  double mean = 0;
+  for (double m : ms) mean += m;
+  mean = ms.empty() ? 0 : mean / ms.size();
+  summary.add("frames", ms.size())
+      .add("ms_mean", mean)
+      .add("ms_median", sorted.empty() ? 0.0 : sorted[sorted.size() / 2])
+      .add("ms_max", sorted.empty() ? 0.0 : sorted.back());
+}
+
+// A body cache for the rest body (its vertex count); throws with the option's name.
+vt::PointCache loadBodyCache(const std::map<std::string, std::string>& opt, const vt::BodyPreparation& rest) {
+  vt::PointCache cache;
+  std::string err;
+  if (!vt::readPointCache(required(opt, "body-cache"), cache, err, static_cast<int>(rest.mesh.V.rows())))
+    throw std::invalid_argument("--body-cache " + err);
+  if (cache.samples.empty()) throw std::invalid_argument("--body-cache " + opt.at("body-cache") + ": no frames");
+  return cache;
+}
+
 // tryon animate resolve: every frame of a garment cache resolved on the body cache's frame.
 int animateResolve(const std::map<std::string, std::string>& opt) {
   const vt::MeshLimits limits = meshLimits(opt);
   const vt::BodyPreparation rest = loadBody(required(opt, "body"), limits);
   const vt::TriMesh garmentRest = loadGarment(required(opt, "garment"), limits);
   const std::string out = required(opt, "out");
-  vt::PointCache bodyCache, garmentCache;
+  const vt::PointCache bodyCache = loadBodyCache(opt, rest);
+  vt::PointCache garmentCache;
   std::string err;
-  if (!vt::readPointCache(required(opt, "body-cache"), bodyCache, err, static_cast<int>(rest.mesh.V.rows())))
-    throw std::invalid_argument("--body-cache " + err);
   if (!vt::readPointCache(required(opt, "garment-cache"), garmentCache, err, static_cast<int>(garmentRest.V.rows())))
     throw std::invalid_argument("--garment-cache " + err);
   if (bodyCache.samples.size() != garmentCache.samples.size())
@@ -541,17 +587,9 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     std::cout << line.str() << std::endl;
   }
   if (!vt::writePointCache(out, result, err)) throw std::runtime_error(err);
-  std::vector<double> sorted = ms;
-  std::sort(sorted.begin(), sorted.end());
-  double mean = 0;
-  for (double m : ms) mean += m;
-  mean = ms.empty() ? 0 : mean / ms.size();
   vt::json::Obj summary;
-  summary.add("frames", ms.size())
-      .add("not_converged", notConverged)
-      .add("ms_mean", mean)
-      .add("ms_median", sorted.empty() ? 0.0 : sorted[sorted.size() / 2])
-      .add("ms_max", sorted.empty() ? 0.0 : sorted.back())
+  addFrameTimes(summary, ms);
+  summary.add("not_converged", notConverged)
       .add("jitter_max_m", jitterMax)
       .add("body_trees_refitted", refitted)
       .add("body_trees_built", ms.size() - refitted)
@@ -560,6 +598,125 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   if (check) summary.add("frames_with_referee_findings", refereeDirty);
   std::cout << vt::json::Obj().json("summary", summary.str()).str() << std::endl;
   return notConverged == 0 && refereeDirty == 0 ? 0 : 3;
+}
+
+// OUT.obj and OUT.pc2 from --out (either name, or a name without those extensions).
+std::pair<std::string, std::string> objAndCache(const std::string& out) {
+  for (const char* ext : {".pc2", ".obj"})
+    if (out.size() > 4 && out.compare(out.size() - 4, 4, ext) == 0) {
+      const std::string base = out.substr(0, out.size() - 4);
+      return {base + ".obj", base + ".pc2"};
+    }
+  return {out + ".obj", out + ".pc2"};
+}
+
+// One frame of tryon animate drape as a JSON line.
+vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, double msBody, double ms) {
+  vt::json::Obj line;
+  line.add("frame", frame)
+      .add("success", r.success)
+      .add("converged", r.converged)
+      .add("steps", r.steps)
+      .add("dt_s", r.dt)
+      .add("interpolated", r.interpolated)
+      .add("grid_rebuilt", r.grid_rebuilt)
+      .add("colliding_nodes", r.colliding_nodes)
+      .add("strain_max", r.strain_max)
+      .add("max_speed_m_s", r.max_speed);
+  if (r.resolver_run)
+    line.add("crossings_before", r.resolver.garment_edge_crossings_before + r.resolver.body_edge_crossings_before)
+        .add("crossings_after", r.resolver.garment_edge_crossings_after + r.resolver.body_edge_crossings_after)
+        .add("inside_before", r.resolver.vertices_inside_before)
+        .add("inside_after", r.resolver.vertices_inside_after)
+        .add("resolver_iterations", r.resolver.iterations)
+        .add("resolver_max_displacement_m", r.resolver.max_displacement);
+  line.add("ms", ms)
+      .add("ms_body", msBody)
+      .add("ms_maps", 1e3 * r.seconds_maps)
+      .add("ms_cloth", 1e3 * r.seconds_cloth)
+      .add("ms_resolve", 1e3 * r.seconds_resolve)
+      .add("message", r.message);
+  return line;
+}
+
+// tryon animate drape: the pattern draped on the body cache's first frame, then worn through the
+// motion (core/drape/worn_garment.h).
+int animateDrape(const std::map<std::string, std::string>& opt) {
+  const vt::MeshLimits limits = meshLimits(opt);
+  const vt::BodyPreparation rest = loadBody(required(opt, "body"), limits);
+  const vt::PointCache bodyCache = loadBodyCache(opt, rest);
+  const auto outs = objAndCache(required(opt, "out"));
+  const std::string patternPath = required(opt, "pattern");
+  const double fps = number(opt, "fps", 30.0);
+  if (!(fps > 0 && fps <= 10000)) throw Usage("--fps must be in (0, 10000] frames per second");
+  const int count = static_cast<int>(bodyCache.samples.size());
+  const int frames = integer(opt, "frames", count, 1, count);
+  vt::WornGarmentParams wp;
+  wp.drape = drapeParams(opt);
+  wp.dt = number(opt, "cloth-dt", 0.0);
+  wp.body_velocity = !opt.count("no-body-velocity");
+  wp.interpolate = !opt.count("no-interpolate");
+  const bool check = opt.count("check") > 0;
+
+  auto body = std::make_unique<vt::Body>(vt::TriMesh{bodyCache.samples[0], rest.mesh.F});
+  const vt::Pattern pattern = loadPattern(patternPath, wp.drape.spacing, body.get(), opt);
+  vt::WornGarment worn(wp);
+  const auto t0 = std::chrono::steady_clock::now();
+  const vt::DrapeResult dressed = worn.dress(*body, pattern, drapeProgress());
+  const double dressMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << vt::json::Obj().add("frame", 0).json("drape", vt::toJson(dressed)).add("ms", dressMs).str() << std::endl;
+  if (!dressed.success) {
+    std::cerr << "tryon: drape failed: " << dressed.message << "\n";
+    return 2;
+  }
+  vt::PointCache result;
+  result.points = static_cast<int>(worn.garment().V.rows());
+  result.start_frame = bodyCache.start_frame;
+  result.sample_rate = bodyCache.sample_rate;
+  result.samples.push_back(worn.garment().V);
+  save(outs.first, worn.garment());
+  std::size_t notConverged = dressed.converged ? 0 : 1, refereeDirty = 0, gridRebuilt = 0;
+  double strainMax = 0;
+  std::vector<double> ms;
+  std::string failure;
+  for (int f = 1; f < frames && failure.empty(); ++f) {
+    const auto tf = std::chrono::steady_clock::now();
+    body = std::make_unique<vt::Body>(std::move(*body), bodyCache.samples[static_cast<std::size_t>(f)]);
+    const double msBody = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - tf).count();
+    const vt::WornFrameReport r = worn.follow(*body, 1.0 / fps);
+    const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - tf).count();
+    vt::json::Obj line = wornFrameJson(static_cast<std::size_t>(f), r, msBody, frameMs);
+    if (!r.success) {
+      failure = "frame " + std::to_string(f) + ": " + r.message;
+    } else {
+      ms.push_back(frameMs);
+      result.samples.push_back(worn.garment().V);
+      strainMax = std::max(strainMax, r.strain_max);
+      if (!r.converged) ++notConverged;
+      if (r.grid_rebuilt) ++gridRebuilt;
+      if (check) {
+        const vt::ReferenceCounts c = vt::referenceCounts(body->mesh(), worn.garment(), body->closed());
+        if (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) ++refereeDirty;
+        line.json("referee", vt::toJson(c));
+      }
+    }
+    std::cout << line.str() << std::endl;
+  }
+  std::string err;
+  if (!vt::writePointCache(outs.second, result, err)) throw std::runtime_error(err);
+  std::cerr << "tryon: wrote " << outs.first << " and " << outs.second << " (" << result.samples.size() << " frames)\n";
+  vt::json::Obj summary;
+  addFrameTimes(summary, ms);
+  summary.add("frames_written", result.samples.size())
+      .add("not_converged", notConverged)
+      .add("strain_max", strainMax)
+      .add("grids_rebuilt", gridRebuilt)
+      .add("drape_ms", dressMs)
+      .add("failure", failure);
+  if (check) summary.add("frames_with_referee_findings", refereeDirty);
+  std::cout << vt::json::Obj().json("summary", summary.str()).str() << std::endl;
+  if (!failure.empty()) std::cerr << "tryon: " << failure << "\n";
+  return failure.empty() && notConverged == 0 && refereeDirty == 0 ? 0 : 3;
 }
 
 int render(const std::map<std::string, std::string>& opt) {
@@ -644,7 +801,16 @@ int main(int argc, char** argv) {
       return render(opt);
     }
     if (cmd == "animate") {
-      if (argc < 3 || std::string(argv[2]) != "resolve") throw Usage("'animate' needs a mode: resolve");
+      const std::string mode = argc < 3 ? "" : argv[2];
+      if (mode == "drape") {
+        allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
+                                          "no-body-velocity", "no-interpolate", "spacing", "dt", "max-iterations",
+                                          "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
+                                          "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
+                                          "max-vertices", "max-faces"});
+        return animateDrape(opt);
+      }
+      if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
       allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);

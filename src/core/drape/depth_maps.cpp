@@ -365,23 +365,49 @@ int mapSizeForTolerance(const TriMesh& body, double tol) {
   return std::max(16, static_cast<int>(n));
 }
 
+MapGrid mapGridFor(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int mapSize, double tol) {
+  MapGrid g;
+  const double ex = hi.x() - lo.x(), ey = hi.y() - lo.y();
+  const double extent = std::max(ex, ey);
+  g.map_size = mapSize;
+  g.pixel = extent > 0 ? extent / mapSize : (tol > 0 ? tol : 1e-3);
+  // Same slack as mapSizeForTolerance: the longer side gets exactly map_size pixels.
+  const int inner_w = std::max(1, static_cast<int>(std::ceil(ex / g.pixel - 1e-9)));
+  const int inner_h = std::max(1, static_cast<int>(std::ceil(ey / g.pixel - 1e-9)));
+  g.width = inner_w + 2;
+  g.height = inner_h + 2;
+  g.x0 = lo.x() - g.pixel;
+  g.y0 = lo.y() - g.pixel;
+  return g;
+}
+
+bool MapGrid::holds(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+  return width > 2 && lo.x() >= x0 + pixel && lo.y() >= y0 + pixel && hi.x() <= x0 + (width - 1) * pixel &&
+         hi.y() <= y0 + (height - 1) * pixel;
+}
+
 DepthMaps::DepthMaps(const TriMesh& body, const CollisionParams& params) {
+  Eigen::Vector3d lo, hi;
+  boundingBox(body, lo, hi);
+  const int size = params.map_size > 0 ? std::min(params.map_size, 16384) : mapSizeForTolerance(body, params.tol);
+  render(body, params, mapGridFor(lo, hi, size, params.tol));
+}
+
+DepthMaps::DepthMaps(const TriMesh& body, const CollisionParams& params, const MapGrid& grid) {
+  render(body, params, grid);
+}
+
+void DepthMaps::render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid) {
   const auto t0 = std::chrono::steady_clock::now();
   tol_ = params.tol;
   boundingBox(body, lo_, hi_);
-  map_size_ = params.map_size > 0 ? std::min(params.map_size, 16384) : mapSizeForTolerance(body, tol_);
-
-  const double ex = hi_.x() - lo_.x(), ey = hi_.y() - lo_.y();
-  const double extent = std::max(ex, ey);
-  pixel_ = extent > 0 ? extent / map_size_ : (tol_ > 0 ? tol_ : 1e-3);
+  map_size_ = grid.map_size;
+  pixel_ = grid.pixel;
   inv_pixel_ = 1.0 / pixel_;
-  // Same slack as mapSizeForTolerance: the longer side gets exactly map_size pixels.
-  const int inner_w = std::max(1, static_cast<int>(std::ceil(ex / pixel_ - 1e-9)));
-  const int inner_h = std::max(1, static_cast<int>(std::ceil(ey / pixel_ - 1e-9)));
-  width_ = inner_w + 2;
-  height_ = inner_h + 2;
-  x0_ = lo_.x() - pixel_;
-  y0_ = lo_.y() - pixel_;
+  width_ = grid.width;
+  height_ = grid.height;
+  x0_ = grid.x0;
+  y0_ = grid.y0;
 
   const std::size_t N = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
   // Memory is the main cost of a build (first touch of fresh pages), so there are no scratch

@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/drape/drape.h"
 
+#include "core/drape/collision_response.h"
+
 #include "virtual_tryon/core/geometry/point_queries.h"
 
 #include <algorithm>
@@ -27,57 +29,6 @@ std::string num(double v) {
   o << v;
   return o.str();
 }
-
-// Velocity response of every colliding node and quad midpoint; a node that gets several
-// responses gets their mean (sec. 6). Templated on the (final) collider so the per-point test
-// inlines.
-template <class Collider>
-class CollisionResponse {
- public:
-  CollisionResponse(const Collider& collider, const CollisionParams& p, bool quads,
-                    const ClothState& cloth, double dt, double pushOut)
-      : collider_(collider), p_(p), quads_(quads), cloth_(cloth), dt_(dt), push_out_(pushOut) {}
-
-  void operator()(const MatrixX3d& x, MatrixX3d& v) {
-    const Eigen::Index n = x.rows();
-    sum_.setZero(n, 3);
-    count_.assign(static_cast<std::size_t>(n), 0);
-    Eigen::Vector3d normal;
-    double depth = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (!collider_.collide(x.row(i).transpose(), normal, depth)) continue;
-      Eigen::Vector3d r = collisionResponse(v.row(i).transpose(), normal, p_.friction, p_.reflection);
-      // Beyond the paper: a node deeper than the shell also gets back a fraction of its depth per
-      // step, so points the velocity response alone leaves inside come out (bounded: at most
-      // push_out * depth / dt).
-      if (depth > p_.tol && dt_ > 0) r += (push_out_ * (depth - p_.tol) / dt_) * normal;
-      sum_.row(i) += r.transpose();
-      ++count_[i];
-    }
-    if (quads_)
-      for (const auto& q : cloth_.quads()) {
-        const Eigen::Vector3d mid = 0.25 * (x.row(q[0]) + x.row(q[1]) + x.row(q[2]) + x.row(q[3])).transpose();
-        if (!collider_.collide(mid, normal, depth)) continue;
-        const Eigen::Vector3d vm = 0.25 * (v.row(q[0]) + v.row(q[1]) + v.row(q[2]) + v.row(q[3])).transpose();
-        const Eigen::RowVector3d r = collisionResponse(vm, normal, p_.friction, p_.reflection).transpose();
-        for (int c : q) {
-          sum_.row(c) += r;
-          ++count_[c];
-        }
-      }
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (count_[i]) v.row(i) = sum_.row(i) / count_[i];
-  }
-
- private:
-  const Collider& collider_;
-  CollisionParams p_;
-  bool quads_;
-  const ClothState& cloth_;
-  double dt_, push_out_;
-  MatrixX3d sum_;
-  std::vector<int> count_;
-};
 
 // One drape run: the stages of drape() on the state they share.
 // Each seam's two stretch lengths and what the longer takes in (DrapeResult::seam_lengths).
@@ -118,6 +69,16 @@ class DrapeRun {
     for (double s : rep_.vertex_strain) rep_.strain_max_final = std::max(rep_.strain_max_final, s);
     summarize();
     return rep_;
+  }
+
+  // The cloth after run() (success): at the returned garment's positions, with its velocities, and
+  // no collision hook (the run's colliders go with the run).
+  std::optional<ClothState> takeCloth(const TriMesh& garment) {
+    if (cloth_) {
+      cloth_->setVelocityHook(nullptr);
+      if (garment.V.rows() == cloth_->positions().rows()) cloth_->positions() = garment.V;
+    }
+    return std::move(cloth_);
   }
 
  private:
@@ -181,14 +142,14 @@ class DrapeRun {
       auto maps = body_.depthMaps(params_.collision);
       rep_.map_size = std::max(maps->width(), maps->height());
       imageSpace_ = std::make_unique<ImageSpaceCollider>(maps);
-      imageResponse_ = std::make_unique<CollisionResponse<ImageSpaceCollider>>(
-          *imageSpace_, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
+      imageResponse_ = std::make_unique<CollisionResponse<StillBody<ImageSpaceCollider>>>(
+          StillBody<ImageSpaceCollider>{*imageSpace_}, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
       cloth.setVelocityHook([this](const MatrixX3d& x, MatrixX3d& v) { (*imageResponse_)(x, v); });
     } else {
       body_.bvh();
       objectSpace_ = std::make_unique<ObjectSpaceCollider>(body_, params_.collision.tol);
-      objectResponse_ = std::make_unique<CollisionResponse<ObjectSpaceCollider>>(
-          *objectSpace_, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
+      objectResponse_ = std::make_unique<CollisionResponse<StillBody<ObjectSpaceCollider>>>(
+          StillBody<ObjectSpaceCollider>{*objectSpace_}, params_.collision, params_.quad_midpoints, cloth, rep_.dt, params_.push_out);
       cloth.setVelocityHook([this](const MatrixX3d& x, MatrixX3d& v) { (*objectResponse_)(x, v); });
     }
   }
@@ -374,8 +335,8 @@ class DrapeRun {
   std::optional<ClothState> cloth_;
   std::unique_ptr<ImageSpaceCollider> imageSpace_;
   std::unique_ptr<ObjectSpaceCollider> objectSpace_;
-  std::unique_ptr<CollisionResponse<ImageSpaceCollider>> imageResponse_;
-  std::unique_ptr<CollisionResponse<ObjectSpaceCollider>> objectResponse_;
+  std::unique_ptr<CollisionResponse<StillBody<ImageSpaceCollider>>> imageResponse_;
+  std::unique_ptr<CollisionResponse<StillBody<ObjectSpaceCollider>>> objectResponse_;
   double weldTol_ = 0;
 
   int drapeIterations_ = 0;
@@ -436,6 +397,15 @@ std::string validateDrapeParams(const DrapeParams& p) {
 DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& params,
                   TriMesh& garment, const DrapeProgressCallback& progress, int progress_every) {
   return DrapeRun(body, params, progress, progress_every).run(input, garment);
+}
+
+DrapeResult drape(const Body& body, const Pattern& input, const DrapeParams& params, TriMesh& garment,
+                  std::optional<ClothState>& cloth, const DrapeProgressCallback& progress, int progress_every) {
+  DrapeRun run(body, params, progress, progress_every);
+  DrapeResult rep = run.run(input, garment);
+  cloth.reset();
+  if (rep.success) cloth = run.takeCloth(garment);
+  return rep;
 }
 
 }  // namespace virtual_tryon

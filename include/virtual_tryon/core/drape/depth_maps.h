@@ -41,6 +41,20 @@ struct CollisionParams {
 // bounding box / tol), clamped to [16, 4096] (4096 also when tol is not positive).
 int mapSizeForTolerance(const TriMesh& body, double tol);
 
+// The pixel grid of a pair of maps: map_size pixels along the longer side of a box, a one-pixel
+// margin round it (see the conventions above). Maps rendered on the same grid (a moving body's
+// frames, DepthMaps' second constructor) share their pixels, so that a pixel can be interpolated
+// between them.
+struct MapGrid {
+  int width = 0, height = 0, map_size = 0;
+  double pixel = 0, x0 = 0, y0 = 0;  // m: pixel side, world x, y of the corner of pixel (0, 0)
+  // True when the box [lo, hi] (its x and y) lies inside the grid, margin excluded.
+  bool holds(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
+};
+
+// The grid of the box [lo, hi] with map_size pixels along its longer x-y side (>= 1).
+MapGrid mapGridFor(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int mapSize, double tol);
+
 class DepthMaps {
  public:
   // Renders both maps with a CPU z-buffer rasterizer. `body` must be valid. The map size is
@@ -66,6 +80,30 @@ class DepthMaps {
   // ring pixel: normalize(n_neighbour + o) (o unit, z = 0); if that sum vanishes, o itself. Only
   // one ring; ring pixels do not seed further rings.
   DepthMaps(const TriMesh& body, const CollisionParams& params);
+  // The same on a given grid (for example a box round every frame of a moving body), which should
+  // hold the body (MapGrid::holds): what lies outside is not rendered. map_size of params is not
+  // read.
+  DepthMaps(const TriMesh& body, const CollisionParams& params, const MapGrid& grid);
+
+  // The grid these maps are rendered on.
+  MapGrid grid() const {
+    MapGrid g;
+    g.width = width_;
+    g.height = height_;
+    g.map_size = map_size_;
+    g.pixel = pixel_;
+    g.x0 = x0_;
+    g.y0 = y0_;
+    return g;
+  }
+  // The pixel index [Y * width + X] of world (x, y); false when outside the map.
+  bool pixelIndex(double x, double y, std::size_t& i) const {
+    const double u = (x - x0_) * inv_pixel_, v = (y - y0_) * inv_pixel_;
+    if (!(u >= 0.0 && u < width_ && v >= 0.0 && v < height_)) return false;
+    i = static_cast<std::size_t>(static_cast<int>(v)) * static_cast<std::size_t>(width_) +
+        static_cast<std::size_t>(static_cast<int>(u));
+    return true;
+  }
 
   // True when p collides: its pixel is covered (or in the ring) and back <= z <= front. `normal`
   // then receives the body's outward normal there: from the front map when p is nearer the front
@@ -127,6 +165,8 @@ class DepthMaps {
   const std::vector<Eigen::Vector3f>& backNormal() const { return back_n_; }
 
  private:
+  void render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid);
+
   int width_ = 0, height_ = 0, map_size_ = 0;
   double pixel_ = 0, inv_pixel_ = 0, tol_ = 0, build_seconds_ = 0;
   double x0_ = 0, y0_ = 0;

@@ -12,6 +12,7 @@
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,14 @@ struct DrapeResult {
 // converged, as long as success is true.
 DrapeResult drape(const Body& body, const Pattern& pattern, const DrapeParams& params,
                   TriMesh& garment, const DrapeProgressCallback& progress = nullptr,
+                  int progress_every = 25);
+
+// The same, also handing over the cloth that made `garment` (empty unless success): its nodes are
+// garment's vertices, at garment's positions (after the resolver), with their velocities, springs
+// and masses, and no collision hook; what a garment worn on a moving body steps on from
+// (worn_garment.h).
+DrapeResult drape(const Body& body, const Pattern& pattern, const DrapeParams& params, TriMesh& garment,
+                  std::optional<ClothState>& cloth, const DrapeProgressCallback& progress = nullptr,
                   int progress_every = 25);
 
 // Checks parameters; "" or a message naming the parameter and the allowed range. Mass (density),

@@ -1,0 +1,89 @@
+// A garment worn on a moving body (Vassilev et al. 2001's "dynamic simulation of garments on moving
+// virtual actors"): draped on the first frame, then stepped through the motion.
+//
+// Between two body frames A and B, T seconds apart, the cloth takes n = ceil(T / dt) steps of T / n.
+// The body between them is interpolated in image space: both frames are rendered (depth and normal
+// maps, sec. 5) on one pixel grid, and a pixel's depth and normal at step j are the linear blend at
+// s = (j + 1) / n. Each pixel's depth moves at (B - A) / T along z, so the surface's speed along its
+// normal n is n_z (B - A) / T, and the collision response works on the velocity relative to it
+// (core/drape/collision_response.h): a moving arm pushes the sleeve instead of passing through it.
+// After the steps, Sun et al. 2016's resolver corrects what is left inside B (the paper's
+// correction-based integration), and the cloth goes on from the corrected positions.
+#pragma once
+
+#include "virtual_tryon/core/drape/drape.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace virtual_tryon {
+
+struct WornGarmentParams {
+  // The first frame's drape. Its cloth, collision (tol, friction, reflection), push_out,
+  // quad_midpoints, max_strain and resolver (with resolve_polish_strain and resolve_rest_strain)
+  // serve every frame after; mode must be image space.
+  DrapeParams drape;
+  double dt = 0;                 // s: the cloth's step between frames; 0: the drape's
+  bool body_velocity = true;     // respond to the velocity relative to the moving surface
+  bool interpolate = true;       // blend the two frames' maps in time; false: B's maps throughout
+  bool resolve = true;           // Sun et al.'s resolver after each frame
+  // m: the maps' grid is the first frame's x-y box grown by this on every side, so that the frames
+  // of a body moving within it share their pixels. A frame that leaves it gets a new grid, and that
+  // one interval is not interpolated (WornFrameReport::grid_rebuilt).
+  double grid_margin = 0.25;
+  int max_steps_per_frame = 5000;  // a longer interval is refused
+};
+
+struct WornFrameReport {
+  bool success = false;    // false: bad input, or the integration blew up (message); nothing moved
+  bool converged = false;  // the resolver converged (or did not run) and strain <= max_strain
+  std::string message;
+  int steps = 0;
+  double dt = 0;           // s
+  bool interpolated = false, grid_rebuilt = false;
+  std::size_t colliding_nodes = 0;  // the largest count of colliding nodes over the steps
+  double strain_max = 0;   // |l / l0 - 1| over structural springs of the returned garment
+  double max_speed = 0;    // m/s, at the end of the steps
+  bool resolver_run = false;
+  ResolverReport resolver;
+  double seconds_maps = 0, seconds_cloth = 0, seconds_resolve = 0, seconds_total = 0;
+};
+
+class WornGarment {
+ public:
+  explicit WornGarment(WornGarmentParams params = WornGarmentParams());
+  ~WornGarment();
+  WornGarment(const WornGarment&) = delete;
+  WornGarment& operator=(const WornGarment&) = delete;
+
+  // Drapes `pattern` on `body` (the first frame) and wears the result. Not success: nothing is worn.
+  DrapeResult dress(const Body& body, const Pattern& pattern, const DrapeProgressCallback& progress = nullptr,
+                    int progress_every = 25);
+  // Steps the worn cloth from the frame it is on to `next`, `seconds` later (> 0, at most
+  // max_steps_per_frame steps). Any body will do (its maps are rendered); a frame of the same body
+  // with the same x-y extent keeps the grid and is interpolated.
+  WornFrameReport follow(const Body& next, double seconds);
+
+  bool worn() const { return cloth_.has_value(); }
+  const TriMesh& garment() const { return garment_; }            // as after the last frame
+  const std::vector<double>& vertexStrain() const { return strain_; }  // per vertex, the fit map
+  const WornGarmentParams& params() const { return params_; }
+  const MapGrid& grid() const { return grid_; }
+
+ private:
+  MapGrid gridAround(const Body& body) const;
+  bool stepCloth(const DepthMaps& from, const DepthMaps& to, double seconds, WornFrameReport& rep);
+  void resolveFrame(const Body& body, WornFrameReport& rep);
+
+  WornGarmentParams params_;
+  std::optional<ClothState> cloth_;
+  TriMesh garment_;
+  std::vector<double> strain_;
+  MapGrid grid_;
+  double pixel_ = 0;  // m: the grid's pixel side, kept when a new grid is made
+  std::shared_ptr<const DepthMaps> maps_;  // of the frame the cloth is on, on grid_
+  ResolverParams frame_resolver_;
+};
+
+}  // namespace virtual_tryon

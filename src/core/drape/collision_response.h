@@ -1,0 +1,94 @@
+// The drape's velocity response to collisions (Vassilev et al. 2001 sec. 6, eq. 12), shared by the
+// drape on a still body (drape.cpp) and the garment worn on a moving one (worn_garment.cpp).
+#pragma once
+
+#include "virtual_tryon/core/drape/cloth.h"
+#include "virtual_tryon/core/drape/depth_maps.h"
+
+#include <vector>
+
+namespace virtual_tryon {
+
+// A still body's collider (ImageSpaceCollider, ObjectSpaceCollider) as CollisionResponse reads
+// one: its surface does not move (speed 0).
+template <class Still>
+struct StillBody {
+  const Still& body;
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
+    speed = 0;
+    return body.collide(p, normal, depth);
+  }
+};
+
+// eq. 12 on the velocity relative to the body's surface, which moves along its outward normal n
+// at `speed` (m/s, > 0 outward): v - speed n is reflected and rubbed, then speed n is added back.
+// So a surface moving out pushes what touches it (a moving arm pushes the sleeve), and at speed 0
+// this is the paper's response.
+inline Eigen::Vector3d movingCollisionResponse(const Eigen::Vector3d& v, const Eigen::Vector3d& n, double speed,
+                                               double friction, double reflection) {
+  if (speed == 0) return collisionResponse(v, n, friction, reflection);
+  return collisionResponse(v - speed * n, n, friction, reflection) + speed * n;
+}
+
+// Velocity response of every colliding node and quad midpoint; a node that gets several
+// responses gets their mean (sec. 6). Templated on the (final) collider so the per-point test
+// inlines; the collider is held by value (a small view of the body, collider() to change it
+// between steps).
+template <class Collider>
+class CollisionResponse {
+ public:
+  CollisionResponse(Collider collider, const CollisionParams& p, bool quads, const ClothState& cloth,
+                    double dt, double pushOut)
+      : collider_(collider), p_(p), quads_(quads), cloth_(cloth), dt_(dt), push_out_(pushOut) {}
+
+  Collider& collider() { return collider_; }
+  void setTimeStep(double dt) { dt_ = dt; }
+  // Nodes that collided in the last call (quad midpoints not counted).
+  std::size_t collidingNodes() const { return colliding_; }
+
+  void operator()(const MatrixX3d& x, MatrixX3d& v) {
+    const Eigen::Index n = x.rows();
+    sum_.setZero(n, 3);
+    count_.assign(static_cast<std::size_t>(n), 0);
+    colliding_ = 0;
+    Eigen::Vector3d normal;
+    double depth = 0, speed = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!collider_.collide(x.row(i).transpose(), normal, depth, speed)) continue;
+      Eigen::Vector3d r = movingCollisionResponse(v.row(i).transpose(), normal, speed, p_.friction, p_.reflection);
+      // Beyond the paper: a node deeper than the shell also gets back a fraction of its depth per
+      // step, so points the velocity response alone leaves inside come out (bounded: at most
+      // push_out * depth / dt).
+      if (depth > p_.tol && dt_ > 0) r += (push_out_ * (depth - p_.tol) / dt_) * normal;
+      sum_.row(i) += r.transpose();
+      ++count_[i];
+      ++colliding_;
+    }
+    if (quads_)
+      for (const auto& q : cloth_.quads()) {
+        const Eigen::Vector3d mid = 0.25 * (x.row(q[0]) + x.row(q[1]) + x.row(q[2]) + x.row(q[3])).transpose();
+        if (!collider_.collide(mid, normal, depth, speed)) continue;
+        const Eigen::Vector3d vm = 0.25 * (v.row(q[0]) + v.row(q[1]) + v.row(q[2]) + v.row(q[3])).transpose();
+        const Eigen::RowVector3d r =
+            movingCollisionResponse(vm, normal, speed, p_.friction, p_.reflection).transpose();
+        for (int c : q) {
+          sum_.row(c) += r;
+          ++count_[c];
+        }
+      }
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (count_[i]) v.row(i) = sum_.row(i) / count_[i];
+  }
+
+ private:
+  Collider collider_;
+  CollisionParams p_;
+  bool quads_;
+  const ClothState& cloth_;
+  double dt_, push_out_;
+  MatrixX3d sum_;
+  std::vector<int> count_;
+  std::size_t colliding_ = 0;
+};
+
+}  // namespace virtual_tryon

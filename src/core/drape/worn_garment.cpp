@@ -1,0 +1,233 @@
+#include "virtual_tryon/core/drape/worn_garment.h"
+
+#include "core/drape/collision_response.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace virtual_tryon {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+
+// m/s: a pixel's surface speed is clamped to this (a pixel whose depth jumps, say from the torso to
+// an arm swinging in front of it, would otherwise throw what it touches at the jump / T).
+constexpr double kMaxSurfaceSpeed = 5.0;
+
+// The body between two frames' maps on one grid, at time s in [0, 1] of the interval (the blend of
+// each pixel's depth and normal; see worn_garment.h), and its speed along the normal.
+class MovingMaps {
+ public:
+  MovingMaps(const DepthMaps& a, const DepthMaps& b, double seconds, bool interpolate, bool velocity)
+      : a_(a), b_(b), inv_t_(1.0 / seconds), interpolate_(interpolate), velocity_(velocity) {}
+  void setTime(double s) { s_ = s; }
+
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
+    std::size_t i;
+    if (!b_.pixelIndex(p.x(), p.y(), i)) return false;
+    const float fb = b_.frontDepth()[i], bb = b_.backDepth()[i];
+    const float fa = a_.frontDepth()[i], ba = a_.backDepth()[i];
+    if (!interpolate_ || std::isnan(fa)) return still(b_, i, p.z(), normal, depth, speed);  // arriving
+    if (std::isnan(fb)) return false;  // the body has left this pixel by the end of the interval
+    const double s = s_;
+    const double f = fa + s * (fb - fa), b = ba + s * (bb - ba), z = p.z();
+    if (!(z <= f && z >= b)) return false;
+    const bool front = f - z <= z - b;
+    const Eigen::Vector3f& na = front ? a_.frontNormal()[i] : a_.backNormal()[i];
+    const Eigen::Vector3f& nb = front ? b_.frontNormal()[i] : b_.backNormal()[i];
+    const Eigen::Vector3d n = ((1 - s) * na.cast<double>() + s * nb.cast<double>());
+    const double len = n.norm();
+    normal = len > 1e-9 ? Eigen::Vector3d(n / len) : nb.cast<double>();
+    depth = front ? f - z : z - b;
+    // The surface z = depth(x, y, t) moves along its normal at n_z dz/dt.
+    const double dz = front ? fb - fa : bb - ba;
+    speed = velocity_ ? std::clamp(normal.z() * dz * inv_t_, -kMaxSurfaceSpeed, kMaxSurfaceSpeed) : 0.0;
+    return true;
+  }
+
+ private:
+  static bool still(const DepthMaps& m, std::size_t i, double z, Eigen::Vector3d& normal, double& depth,
+                    double& speed) {
+    const double f = m.frontDepth()[i], b = m.backDepth()[i];
+    if (!(z <= f && z >= b)) return false;
+    const bool front = f - z <= z - b;
+    normal = (front ? m.frontNormal()[i] : m.backNormal()[i]).cast<double>();
+    depth = front ? f - z : z - b;
+    speed = 0;
+    return true;
+  }
+
+  const DepthMaps& a_;
+  const DepthMaps& b_;
+  double inv_t_, s_ = 1;
+  bool interpolate_, velocity_;
+};
+
+bool sameGrid(const MapGrid& a, const MapGrid& b) {
+  return a.width == b.width && a.height == b.height && a.pixel == b.pixel && a.x0 == b.x0 && a.y0 == b.y0;
+}
+
+}  // namespace
+
+WornGarment::WornGarment(WornGarmentParams params) : params_(std::move(params)) {}
+WornGarment::~WornGarment() = default;
+
+MapGrid WornGarment::gridAround(const Body& body) const {
+  const Eigen::Vector3d grow(params_.grid_margin, params_.grid_margin, 0);
+  const Eigen::Vector3d lo = body.boxMin() - grow, hi = body.boxMax() + grow;
+  const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  const int size = std::clamp(static_cast<int>(std::ceil(extent / pixel_ - 1e-9)), 16, 16384);
+  return mapGridFor(lo, hi, size, params_.drape.collision.tol);
+}
+
+DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const DrapeProgressCallback& progress,
+                               int progress_every) {
+  cloth_.reset();
+  garment_ = TriMesh();
+  strain_.clear();
+  maps_.reset();
+  if (params_.drape.mode != CollisionMode::ImageSpace) {
+    DrapeResult r;
+    r.message = "a worn garment steps in image space: drape mode must be image space";
+    return r;
+  }
+  if (!(params_.grid_margin >= 0 && params_.grid_margin <= 10) || !(params_.dt >= 0) || !std::isfinite(params_.dt) ||
+      params_.max_steps_per_frame < 1) {
+    DrapeResult r;
+    r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1)";
+    return r;
+  }
+  DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
+  if (!rep.success) return rep;
+  strain_ = rep.vertex_strain;
+  // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
+  pixel_ = body.depthMaps(params_.drape.collision)->pixelSize();
+  grid_ = gridAround(body);
+  maps_ = std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+  // Each frame's resolve keeps the drape's final-resolve settings: edges past the polish strain
+  // against the cloth as stepped, and every structural spring within its rest bound.
+  frame_resolver_ = params_.drape.resolver;
+  if (params_.drape.resolve_polish_strain > 0)
+    frame_resolver_.relaxation.polish_strain = params_.drape.resolve_polish_strain;
+  if (params_.drape.resolve_rest_strain > 0) {
+    frame_resolver_.relaxation.rest_strain = params_.drape.resolve_rest_strain;
+    for (const Spring& sp : cloth_->springs())
+      if (sp.type == SpringType::Structural) frame_resolver_.relaxation.rest_lengths.push_back({sp.a, sp.b, sp.rest});
+  }
+  return rep;
+}
+
+bool WornGarment::stepCloth(const DepthMaps& from, const DepthMaps& to, double seconds, WornFrameReport& rep) {
+  ClothState& cloth = *cloth_;
+  const double dt = params_.dt > 0 ? params_.dt : params_.drape.dt > 0 ? params_.drape.dt
+                                                                       : params_.drape.dt_safety * cloth.stableTimeStep();
+  const int n = std::max(1, static_cast<int>(std::ceil(seconds / dt - 1e-9)));
+  if (n > params_.max_steps_per_frame) {
+    rep.message = "the frame is " + num(seconds) + " s long: " + std::to_string(n) + " steps of at most " + num(dt) +
+                  " s, above max_steps_per_frame " + std::to_string(params_.max_steps_per_frame);
+    return false;
+  }
+  rep.steps = n;
+  rep.dt = seconds / n;
+  CollisionResponse<MovingMaps> response(MovingMaps(from, to, seconds, rep.interpolated, params_.body_velocity),
+                                         params_.drape.collision, params_.drape.quad_midpoints, cloth, rep.dt,
+                                         params_.drape.push_out);
+  cloth.setVelocityHook([&response](const MatrixX3d& x, MatrixX3d& v) { response(x, v); });
+  const MatrixX3d x0 = cloth.positions(), v0 = cloth.velocities();
+  bool ok = true;
+  for (int j = 0; j < n && ok; ++j) {
+    response.collider().setTime(static_cast<double>(j + 1) / n);
+    ok = cloth.step(rep.dt, false);
+    rep.colliding_nodes = std::max(rep.colliding_nodes, response.collidingNodes());
+  }
+  cloth.setVelocityHook(nullptr);
+  if (!ok) {
+    cloth.positions() = x0;  // nothing moved
+    cloth.velocities() = v0;
+    rep.message = "the integration blew up (a non-finite value or a node faster than " +
+                  num(cloth.params().runaway_speed) + " m/s) with dt " + num(rep.dt) + " s";
+    return false;
+  }
+  rep.max_speed = cloth.maxSpeed();
+  return true;
+}
+
+void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
+  ClothState& cloth = *cloth_;
+  garment_ = cloth.mesh();
+  if (params_.resolve) {
+    const auto t0 = Clock::now();
+    rep.resolver = resolvePenetrations(body, garment_, frame_resolver_);
+    rep.resolver_run = true;
+    rep.seconds_resolve = since(t0);
+    // The cloth goes on from the corrected positions; a corrected node keeps its velocity less
+    // what points into the body (the correction took it out; its old velocity would take it back).
+    const MatrixX3d moved = garment_.V - cloth.positions();
+    for (Eigen::Index i = 0; i < moved.rows(); ++i) {
+      const double d = moved.row(i).norm();
+      if (!(d > 0)) continue;
+      const Eigen::RowVector3d u = moved.row(i) / d;
+      const double inward = cloth.velocities().row(i).dot(u);
+      if (inward < 0) cloth.velocities().row(i) -= inward * u;
+    }
+    cloth.positions() = garment_.V;
+  }
+  strain_ = cloth.nodeStrain(garment_.V);
+  rep.strain_max = 0;
+  for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
+}
+
+WornFrameReport WornGarment::follow(const Body& next, double seconds) {
+  const auto t0 = Clock::now();
+  WornFrameReport rep;
+  if (!worn()) {
+    rep.message = "no garment is worn: dress() it first";
+    return rep;
+  }
+  if (!(seconds > 0) || !std::isfinite(seconds)) {
+    rep.message = "the frame interval must be a positive number of seconds (got " + num(seconds) + ")";
+    return rep;
+  }
+  // The new frame's maps, on the shared grid when the body is still inside it.
+  const auto tMaps = Clock::now();
+  if (!grid_.holds(next.boxMin(), next.boxMax())) {
+    grid_ = gridAround(next);
+    rep.grid_rebuilt = true;
+  }
+  auto to = std::make_shared<const DepthMaps>(next.mesh(), params_.drape.collision, grid_);
+  rep.interpolated = params_.interpolate && sameGrid(maps_->grid(), to->grid());
+  rep.seconds_maps = since(tMaps);
+  const auto tCloth = Clock::now();
+  if (!stepCloth(rep.interpolated ? *maps_ : *to, *to, seconds, rep)) {
+    rep.seconds_total = since(t0);
+    return rep;
+  }
+  rep.seconds_cloth = since(tCloth);
+  maps_ = std::move(to);
+  rep.success = true;
+  resolveFrame(next, rep);
+  const double maxStrain = params_.drape.max_strain;
+  const bool withinStrain = !(maxStrain > 0) || rep.strain_max <= maxStrain;
+  rep.converged = (!rep.resolver_run || rep.resolver.converged) && withinStrain;
+  std::ostringstream msg;
+  msg << rep.steps << " steps of " << num(rep.dt) << " s";
+  if (!rep.interpolated) msg << " (maps not interpolated" << (rep.grid_rebuilt ? ": new grid)" : ")");
+  if (rep.resolver_run && !rep.resolver.converged) msg << "; not converged: resolver: " << rep.resolver.reason;
+  if (!withinStrain)
+    msg << "; not converged: a spring is stretched by " << num(rep.strain_max) << ", above max_strain " << num(maxStrain);
+  rep.message = msg.str();
+  rep.seconds_total = since(t0);
+  return rep;
+}
+
+}  // namespace virtual_tryon

@@ -1,0 +1,136 @@
+// A garment worn on a moving body (core/drape/worn_garment.h): the sleeveless shirt draped on the
+// project's swaying body (scenes/procedural_animation.h) and stepped through its frames, every frame
+// checked by the independent referee; and what the worn garment refuses.
+#include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/drape/worn_garment.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
+#include "virtual_tryon/core/scenes/procedural_animation.h"
+#include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_bvh.h"
+#include "virtual_tryon/testing/reference_check.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+
+using namespace virtual_tryon;
+
+namespace {
+
+Pattern loadPattern(const std::string& name) {
+  Pattern p;
+  std::string err;
+  EXPECT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
+      << err;
+  return p;
+}
+
+WornGarmentParams wornParams() {
+  WornGarmentParams p;
+  p.drape.spacing = 0.04;
+  return p;
+}
+
+// The vertices above height y.
+std::vector<Eigen::Index> above(const MatrixX3d& V, double y) {
+  std::vector<Eigen::Index> idx;
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    if (V(i, 1) > y) idx.push_back(i);
+  return idx;
+}
+
+// For each of the points idx of P, the nearest vertex of V.
+std::vector<Eigen::Index> nearestOf(const MatrixX3d& V, const MatrixX3d& P, const std::vector<Eigen::Index>& idx) {
+  std::vector<Eigen::Index> out;
+  for (Eigen::Index i : idx) {
+    Eigen::Index best = 0;
+    (V.rowwise() - P.row(i)).rowwise().squaredNorm().minCoeff(&best);
+    out.push_back(best);
+  }
+  return out;
+}
+
+Eigen::RowVector3d meanOf(const MatrixX3d& V, const std::vector<Eigen::Index>& idx) {
+  Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+  for (Eigen::Index i : idx) sum += V.row(i);
+  return idx.empty() ? sum : Eigen::RowVector3d(sum / static_cast<double>(idx.size()));
+}
+
+}  // namespace
+
+TEST(WornGarment, TheShirtFollowsTheSwayingTorsoCleanEveryFrame) {
+  ProceduralAnimationParams ap;
+  ap.frames = 10;
+  const ProceduralAnimation anim = makeProceduralAnimation(ap);
+  auto body = std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F});
+  WornGarment worn(wornParams());
+  const DrapeResult dressed = worn.dress(*body, loadPattern("sleeveless_shirt.yaml"));
+  ASSERT_TRUE(dressed.success) << dressed.message;
+  ASSERT_TRUE(worn.worn());
+  const ProceduralBodyLandmarks L = proceduralBodyLandmarks();
+  const std::vector<Eigen::Index> shirtTop = above(worn.garment().V, L.chest_y);
+  const std::vector<Eigen::Index> bodyTop = nearestOf(body->mesh().V, worn.garment().V, shirtTop);
+  ASSERT_GT(shirtTop.size(), 10u);
+  const Eigen::RowVector3d shirtStart = meanOf(worn.garment().V, shirtTop);
+  const Eigen::RowVector3d bodyStart = meanOf(body->mesh().V, bodyTop);
+  for (int f = 1; f < ap.frames; ++f) {
+    body = std::make_unique<Body>(std::move(*body), anim.body_frames[static_cast<std::size_t>(f)]);
+    const WornFrameReport r = worn.follow(*body, 1.0 / anim.rate);
+    ASSERT_TRUE(r.success) << "frame " << f << ": " << r.message;
+    EXPECT_TRUE(r.converged) << "frame " << f << ": " << r.message;
+    EXPECT_TRUE(r.interpolated) << "frame " << f;
+    EXPECT_FALSE(r.grid_rebuilt) << "frame " << f;
+    EXPECT_GT(r.steps, 0);
+    EXPECT_NEAR(r.steps * r.dt, 1.0 / anim.rate, 1e-12);
+    EXPECT_TRUE(r.resolver_run);
+    EXPECT_LT(r.max_speed, 5.0) << "frame " << f;  // no blow-up: the torso moves at well under 1 m/s
+    const TriMesh& g = worn.garment();
+    ASSERT_TRUE(g.V.allFinite());
+    const ReferenceCounts c = referenceCounts(body->mesh(), g);
+    EXPECT_EQ(c.garment_edge_crossings, 0u) << "frame " << f;
+    EXPECT_EQ(c.body_edge_crossings, 0u) << "frame " << f;
+    EXPECT_EQ(c.vertices_inside, 0u) << "frame " << f;
+    EXPECT_LE(r.strain_max, 0.15) << "frame " << f;
+    const double vertexStrain = *std::max_element(worn.vertexStrain().begin(), worn.vertexStrain().end());
+    EXPECT_NEAR(vertexStrain, r.strain_max, 1e-12);
+  }
+  // The shirt's top went with the body under it (which moved by over a centimetre): at least half
+  // the way, and off its direction by less than half (a loose shirt lags by its ease).
+  const Eigen::RowVector3d bodyMove = meanOf(body->mesh().V, bodyTop) - bodyStart;
+  const Eigen::RowVector3d shirtMove = meanOf(worn.garment().V, shirtTop) - shirtStart;
+  ASSERT_GT(bodyMove.norm(), 0.01);
+  EXPECT_GT(shirtMove.dot(bodyMove.normalized()), bodyMove.norm() / 2) << "body " << bodyMove << ", shirt " << shirtMove;
+  EXPECT_LT((shirtMove - bodyMove).norm(), bodyMove.norm() / 2) << "body " << bodyMove << ", shirt " << shirtMove;
+}
+
+TEST(WornGarment, RefusesWhatItCannotStep) {
+  const Body body(makeProceduralBody());
+  WornGarment idle(wornParams());
+  WornFrameReport r = idle.follow(body, 1.0 / 30);
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.message.find("dress"), std::string::npos) << r.message;
+
+  WornGarmentParams objectSpace = wornParams();
+  objectSpace.drape.mode = CollisionMode::ObjectSpace;
+  WornGarment object(objectSpace);
+  const DrapeResult d = object.dress(body, loadPattern("skirt.yaml"));
+  EXPECT_FALSE(d.success);
+  EXPECT_NE(d.message.find("image space"), std::string::npos) << d.message;
+  EXPECT_FALSE(object.worn());
+
+  WornGarmentParams fewSteps = wornParams();
+  fewSteps.max_steps_per_frame = 2;
+  WornGarment worn(fewSteps);
+  ASSERT_TRUE(worn.dress(body, loadPattern("skirt.yaml")).success);
+  const TriMesh before = worn.garment();
+  for (double seconds : {0.0, -1.0, std::nan("")}) {
+    r = worn.follow(body, seconds);
+    EXPECT_FALSE(r.success) << seconds;
+    EXPECT_NE(r.message.find("positive"), std::string::npos) << r.message;
+  }
+  r = worn.follow(body, 10.0);  // far more than two steps
+  EXPECT_FALSE(r.success);
+  EXPECT_NE(r.message.find("max_steps_per_frame"), std::string::npos) << r.message;
+  EXPECT_EQ(worn.garment().V, before.V);  // nothing moved
+}
