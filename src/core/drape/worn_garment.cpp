@@ -102,14 +102,16 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
     return r;
   }
   if (!(params_.grid_margin >= 0 && params_.grid_margin <= 10) || !(params_.dt >= 0) || !std::isfinite(params_.dt) ||
-      params_.max_steps_per_frame < 1) {
+      params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1)) {
     DrapeResult r;
-    r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1)";
+    r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
+                "strain_restore 0 .. 1)";
     return r;
   }
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
   if (!rep.success) return rep;
   strain_ = rep.vertex_strain;
+  cloth_->setStrainRestore(params_.strain_restore);
   // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
   pixel_ = body.depthMaps(params_.drape.collision)->pixelSize();
   grid_ = gridAround(body);
@@ -165,6 +167,7 @@ bool WornGarment::stepCloth(const DepthMaps& from, const DepthMaps& to, double s
 void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   ClothState& cloth = *cloth_;
   garment_ = cloth.mesh();
+  for (double s : cloth.nodeStrain(garment_.V)) rep.strain_stepped = std::max(rep.strain_stepped, s);
   if (params_.resolve) {
     const auto t0 = Clock::now();
     rep.resolver = resolvePenetrations(body, garment_, frame_resolver_);

@@ -66,6 +66,9 @@ class ClothState {
   ClothState(const ClothMesh& mesh, const ClothParams& params);
 
   const ClothParams& params() const { return params_; }
+  // The strain_restore of every later step (0 .. 1; see ClothParams), e.g. for a garment worn on a
+  // moving body after its drape.
+  void setStrainRestore(double restore) { params_.strain_restore = restore; }
   double nodeMass() const { return mass_; }  // of an unwelded node
   double maxStiffness(bool withSeams) const;  // of a single spring
   // The eq. 4 bound as the paper reads, K = the stiffest single spring. A node joined by several

@@ -28,6 +28,10 @@ struct WornGarmentParams {
   bool body_velocity = true;     // respond to the velocity relative to the moving surface
   bool interpolate = true;       // blend the two frames' maps in time; false: B's maps throughout
   bool resolve = true;           // Sun et al.'s resolver after each frame
+  // The cloth's strain_restore (ClothParams, Provot's correction) while worn: a body that pushes
+  // the cloth (a knee swinging into the hem) stretches it faster than the velocity fix alone
+  // holds; this takes the excess back at this fraction a step. 0 .. 1.
+  double strain_restore = 0.3;
   // m: the maps' grid is the first frame's x-y box grown by this on every side, so that the frames
   // of a body moving within it share their pixels. A frame that leaves it gets a new grid, and that
   // one interval is not interpolated (WornFrameReport::grid_rebuilt).
@@ -44,6 +48,7 @@ struct WornFrameReport {
   bool interpolated = false, grid_rebuilt = false;
   std::size_t colliding_nodes = 0;  // the largest count of colliding nodes over the steps
   double strain_max = 0;   // |l / l0 - 1| over structural springs of the returned garment
+  double strain_stepped = 0;  // the same after the steps, before the resolver
   double max_speed = 0;    // m/s, at the end of the steps
   bool resolver_run = false;
   ResolverReport resolver;
