@@ -402,3 +402,35 @@ TEST_F(SphereFixture, MapsAreConsistent) {
   // A loose speed sanity check (the measured figure is a few ms; this only catches blow-ups).
   EXPECT_LT(dm.buildSeconds(), 1.0);
 }
+
+// The top view sees what the front view cannot: a "boot" at heel strike, the shin column on a foot
+// block reaching forward along z, its toes raised (a post at the front). A point over the foot,
+// between the shin and the toes, lies between the heel's back and the toes' front, so the front
+// maps call it inside, 4 cm deep; from above it lies over the foot's top, outside. A point inside
+// the shin is inside in both views, and the top view's normal on the foot's top, turned back to
+// the world, points up.
+TEST(DepthMaps, TopViewSeesTheHollowAboveAFoot) {
+  const vt::TriMesh shin = vt::makeCylinder(0.05, 0.40, Eigen::Vector3d(0, 0.25, 0), 32, 8);
+  const vt::TriMesh foot = vt::transformed(vt::makeCylinder(0.03, 0.24, Eigen::Vector3d::Zero(), 32, 8),
+                                           Eigen::Vector3d::UnitX(), M_PI / 2, Eigen::Vector3d(0, 0.03, 0.08));
+  const vt::TriMesh toes = vt::makeCylinder(0.025, 0.16, Eigen::Vector3d(0, 0.08, 0.175), 32, 8);
+  const vt::TriMesh boot = vt::concatenate(vt::concatenate(shin, foot), toes);
+  vt::CollisionParams cp;
+  cp.tol = 0.003;
+  const vt::DepthMaps front(boot, cp);
+  const vt::DepthMaps top(vt::topViewMesh(boot), cp);
+  Eigen::Vector3d n;
+  double depth = 0;
+  const Eigen::Vector3d hollow(0, 0.10, 0.10);  // above the foot (its top at y 0.06), shin to toes
+  ASSERT_TRUE(front.collide(hollow, n, &depth));
+  EXPECT_GT(depth, 0.04);
+  EXPECT_FALSE(top.collide(vt::topViewPoint(hollow), n, &depth));
+  const Eigen::Vector3d inShin(0, 0.30, 0.01);
+  EXPECT_TRUE(front.collide(inShin, n, &depth));
+  EXPECT_TRUE(top.collide(vt::topViewPoint(inShin), n, &depth));
+  const Eigen::Vector3d onFoot(0, 0.059, 0.10);  // just under the foot's top, shin to toes
+  ASSERT_TRUE(top.collide(vt::topViewPoint(onFoot), n, &depth));
+  const Eigen::Vector3d up(n.x(), n.z(), -n.y());
+  EXPECT_GT(up.y(), 0.9) << up.transpose();
+  EXPECT_LT(depth, 0.003 + 0.002);
+}

@@ -333,8 +333,9 @@ int ClothState::weldClosedSeams(double tolerance) {
   return count;
 }
 
-void ClothState::relaxStretchedSprings(int passes) {
+int ClothState::relaxStretchedSprings(int passes) {
   const double limit = 1.0 + params_.stretch_threshold;
+  int done = 0;
   for (int pass = 0; pass < passes; ++pass) {
     bool moved = false;
     for (const Spring& sp : springs_) {
@@ -349,8 +350,10 @@ void ClothState::relaxStretchedSprings(int passes) {
       moved = true;
     }
     if (!moved) break;
+    ++done;
   }
   over_valid_ = false;
+  return done;
 }
 
 void ClothState::rebuildAfterWeld(const std::vector<int>& rep) {

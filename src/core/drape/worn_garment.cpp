@@ -25,37 +25,55 @@ std::string num(double v) {
 constexpr double kMaxSurfaceSpeed = 5.0;
 
 // The body between two frames' maps on one grid, at time s in [0, 1] of the interval (the blend of
-// each pixel's depth and normal; see worn_garment.h), and its speed along the normal.
+// each pixel's depth and normal; see worn_garment.h), and its speed along the normal. With the top
+// view, a point deeper than the tolerance shell collides only when the top view sees it inside
+// too (the body is inside both views' depth intervals, so nothing truly inside is missed); the
+// front view gives the normal, depth and speed (a wall moving sideways, a leg swinging, seen from
+// above is a depth that jumps).
 class MovingMaps {
  public:
-  MovingMaps(const DepthMaps& a, const DepthMaps& b, double seconds, bool interpolate, bool velocity)
-      : a_(a), b_(b), inv_t_(1.0 / seconds), interpolate_(interpolate), velocity_(velocity) {}
+  MovingMaps(const WornGarment::FrameMaps& a, const WornGarment::FrameMaps& b, double seconds, bool interpolate,
+             bool velocity)
+      : a_(*a.front), b_(*b.front), at_(a.top.get()), bt_(b.top.get()), inv_t_(1.0 / seconds),
+        interpolate_(interpolate), velocity_(velocity) {}
   void setTime(double s) { s_ = s; }
 
   bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
+    if (!view(a_, b_, p, normal, depth, speed)) return false;
+    // Within the tolerance shell the front view is right (the shell is along z: at a steep wall a
+    // point in it may lie far from the wall along y, and the top view would let it through).
+    if (!bt_ || !at_ || depth <= b_.tol()) return true;
+    Eigen::Vector3d nq;
+    double dq, sq;
+    return view(*at_, *bt_, topViewPoint(p), nq, dq, sq);  // false: outside, seen from above
+  }
+
+ private:
+  // One view: the maps a and b of the interval's ends on one grid, the point in the view's frame.
+  bool view(const DepthMaps& a, const DepthMaps& b, const Eigen::Vector3d& p, Eigen::Vector3d& normal,
+            double& depth, double& speed) const {
     std::size_t i;
-    if (!b_.pixelIndex(p.x(), p.y(), i)) return false;
-    const float fb = b_.frontDepth()[i], bb = b_.backDepth()[i];
-    const float fa = a_.frontDepth()[i], ba = a_.backDepth()[i];
-    if (!interpolate_ || std::isnan(fa)) return still(b_, i, p.z(), normal, depth, speed);  // arriving
+    if (!b.pixelIndex(p.x(), p.y(), i)) return false;
+    const float fb = b.frontDepth()[i], bb = b.backDepth()[i];
+    const float fa = a.frontDepth()[i], ba = a.backDepth()[i];
+    if (!interpolate_ || std::isnan(fa)) return still(b, i, p.z(), normal, depth, speed);  // arriving
     if (std::isnan(fb)) return false;  // the body has left this pixel by the end of the interval
     const double s = s_;
-    const double f = fa + s * (fb - fa), b = ba + s * (bb - ba), z = p.z();
-    if (!(z <= f && z >= b)) return false;
-    const bool front = f - z <= z - b;
-    const Eigen::Vector3f& na = front ? a_.frontNormal()[i] : a_.backNormal()[i];
-    const Eigen::Vector3f& nb = front ? b_.frontNormal()[i] : b_.backNormal()[i];
+    const double f = fa + s * (fb - fa), bk = ba + s * (bb - ba), z = p.z();
+    if (!(z <= f && z >= bk)) return false;
+    const bool front = f - z <= z - bk;
+    const Eigen::Vector3f& na = front ? a.frontNormal()[i] : a.backNormal()[i];
+    const Eigen::Vector3f& nb = front ? b.frontNormal()[i] : b.backNormal()[i];
     const Eigen::Vector3d n = ((1 - s) * na.cast<double>() + s * nb.cast<double>());
     const double len = n.norm();
     normal = len > 1e-9 ? Eigen::Vector3d(n / len) : nb.cast<double>();
-    depth = front ? f - z : z - b;
+    depth = front ? f - z : z - bk;
     // The surface z = depth(x, y, t) moves along its normal at n_z dz/dt.
     const double dz = front ? fb - fa : bb - ba;
     speed = velocity_ ? std::clamp(normal.z() * dz * inv_t_, -kMaxSurfaceSpeed, kMaxSurfaceSpeed) : 0.0;
     return true;
   }
 
- private:
   static bool still(const DepthMaps& m, std::size_t i, double z, Eigen::Vector3d& normal, double& depth,
                     double& speed) {
     const double f = m.frontDepth()[i], b = m.backDepth()[i];
@@ -69,6 +87,8 @@ class MovingMaps {
 
   const DepthMaps& a_;
   const DepthMaps& b_;
+  const DepthMaps* at_;
+  const DepthMaps* bt_;
   double inv_t_, s_ = 1;
   bool interpolate_, velocity_;
 };
@@ -82,9 +102,9 @@ bool sameGrid(const MapGrid& a, const MapGrid& b) {
 WornGarment::WornGarment(WornGarmentParams params) : params_(std::move(params)) {}
 WornGarment::~WornGarment() = default;
 
-MapGrid WornGarment::gridAround(const Body& body) const {
+MapGrid WornGarment::gridAround(const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax) const {
   const Eigen::Vector3d grow(params_.grid_margin, params_.grid_margin, 0);
-  const Eigen::Vector3d lo = body.boxMin() - grow, hi = body.boxMax() + grow;
+  const Eigen::Vector3d lo = boxMin - grow, hi = boxMax + grow;
   const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
   const int size = std::clamp(static_cast<int>(std::ceil(extent / pixel_ - 1e-9)), 16, 16384);
   return mapGridFor(lo, hi, size, params_.drape.collision.tol);
@@ -95,17 +115,19 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   cloth_.reset();
   garment_ = TriMesh();
   strain_.clear();
-  maps_.reset();
+  maps_ = FrameMaps();
   if (params_.drape.mode != CollisionMode::ImageSpace) {
     DrapeResult r;
     r.message = "a worn garment steps in image space: drape mode must be image space";
     return r;
   }
   if (!(params_.grid_margin >= 0 && params_.grid_margin <= 10) || !(params_.dt >= 0) || !std::isfinite(params_.dt) ||
-      params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1)) {
+      params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1) ||
+      params_.relax_passes < 0 || params_.relax_passes > 1000 || params_.step_halvings < 0 ||
+      params_.step_halvings > 8) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
-                "strain_restore 0 .. 1)";
+                "strain_restore 0 .. 1, relax_passes 0 .. 1000, step_halvings 0 .. 8)";
     return r;
   }
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
@@ -114,8 +136,13 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   cloth_->setStrainRestore(params_.strain_restore);
   // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
   pixel_ = body.depthMaps(params_.drape.collision)->pixelSize();
-  grid_ = gridAround(body);
-  maps_ = std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+  grid_ = gridAround(body.boxMin(), body.boxMax());
+  if (params_.top_view) {
+    Eigen::Vector3d lo, hi;
+    topViewBox(body, lo, hi);
+    grid_top_ = gridAround(lo, hi);
+  }
+  maps_ = renderMaps(body);
   // Each frame's resolve keeps the drape's final-resolve settings: edges past the polish strain
   // against the cloth as stepped, and every structural spring within its rest bound.
   frame_resolver_ = params_.drape.resolver;
@@ -129,10 +156,33 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   return rep;
 }
 
-bool WornGarment::stepCloth(const DepthMaps& from, const DepthMaps& to, double seconds, WornFrameReport& rep) {
+void WornGarment::topViewBox(const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  lo = topViewPoint(Eigen::Vector3d(body.boxMin().x(), body.boxMin().y(), body.boxMax().z()));
+  hi = topViewPoint(Eigen::Vector3d(body.boxMax().x(), body.boxMax().y(), body.boxMin().z()));
+}
+
+WornGarment::FrameMaps WornGarment::renderMaps(const Body& body) const {
+  FrameMaps m;
+  m.front = std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+  if (params_.top_view)
+    m.top = std::make_shared<const DepthMaps>(topViewMesh(body.mesh()), params_.drape.collision, grid_top_);
+  return m;
+}
+
+bool WornGarment::stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep) {
+  const ClothState& cloth = *cloth_;
+  double dt = params_.dt > 0 ? params_.dt : params_.drape.dt > 0 ? params_.drape.dt
+                                                                 : params_.drape.dt_safety * cloth.stableTimeStep();
+  for (;; dt /= 2, ++rep.step_halvings) {
+    if (stepCloth(from, to, seconds, dt, rep)) return true;
+    if (rep.steps == 0 || rep.step_halvings >= params_.step_halvings) return false;  // refused, or no halving left
+  }
+}
+
+bool WornGarment::stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt,
+                            WornFrameReport& rep) {
   ClothState& cloth = *cloth_;
-  const double dt = params_.dt > 0 ? params_.dt : params_.drape.dt > 0 ? params_.drape.dt
-                                                                       : params_.drape.dt_safety * cloth.stableTimeStep();
+  rep.steps = 0;
   const int n = std::max(1, static_cast<int>(std::ceil(seconds / dt - 1e-9)));
   if (n > params_.max_steps_per_frame) {
     rep.message = "the frame is " + num(seconds) + " s long: " + std::to_string(n) + " steps of at most " + num(dt) +
@@ -157,7 +207,8 @@ bool WornGarment::stepCloth(const DepthMaps& from, const DepthMaps& to, double s
     cloth.positions() = x0;  // nothing moved
     cloth.velocities() = v0;
     rep.message = "the integration blew up (a non-finite value or a node faster than " +
-                  num(cloth.params().runaway_speed) + " m/s) with dt " + num(rep.dt) + " s";
+                  num(cloth.params().runaway_speed) + " m/s) with dt " + num(rep.dt) + " s" +
+                  (rep.step_halvings > 0 ? " (halved " + std::to_string(rep.step_halvings) + " times)" : "");
     return false;
   }
   rep.max_speed = cloth.maxSpeed();
@@ -188,6 +239,8 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   strain_ = cloth.nodeStrain(garment_.V);
   rep.strain_max = 0;
   for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
+  if (params_.relax_passes > 0 && rep.strain_max > cloth.params().stretch_threshold)
+    rep.relax_passes = cloth.relaxStretchedSprings(params_.relax_passes);
 }
 
 WornFrameReport WornGarment::follow(const Body& next, double seconds) {
@@ -204,14 +257,23 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   // The new frame's maps, on the shared grid when the body is still inside it.
   const auto tMaps = Clock::now();
   if (!grid_.holds(next.boxMin(), next.boxMax())) {
-    grid_ = gridAround(next);
+    grid_ = gridAround(next.boxMin(), next.boxMax());
     rep.grid_rebuilt = true;
   }
-  auto to = std::make_shared<const DepthMaps>(next.mesh(), params_.drape.collision, grid_);
-  rep.interpolated = params_.interpolate && sameGrid(maps_->grid(), to->grid());
+  if (params_.top_view) {
+    Eigen::Vector3d lo, hi;
+    topViewBox(next, lo, hi);
+    if (!grid_top_.holds(lo, hi)) {
+      grid_top_ = gridAround(lo, hi);
+      rep.grid_rebuilt = true;
+    }
+  }
+  FrameMaps to = renderMaps(next);
+  rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid()) &&
+                     (!to.top || sameGrid(maps_.top->grid(), to.top->grid()));
   rep.seconds_maps = since(tMaps);
   const auto tCloth = Clock::now();
-  if (!stepCloth(rep.interpolated ? *maps_ : *to, *to, seconds, rep)) {
+  if (!stepFrame(rep.interpolated ? maps_ : to, to, seconds, rep)) {
     rep.seconds_total = since(t0);
     return rep;
   }
@@ -224,6 +286,8 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   rep.converged = (!rep.resolver_run || rep.resolver.converged) && withinStrain;
   std::ostringstream msg;
   msg << rep.steps << " steps of " << num(rep.dt) << " s";
+  if (rep.step_halvings > 0) msg << " (the step halved " << rep.step_halvings << " times after a blow-up)";
+  if (rep.relax_passes > 0) msg << "; the cloth's spikes relaxed in " << rep.relax_passes << " passes";
   if (!rep.interpolated) msg << " (maps not interpolated" << (rep.grid_rebuilt ? ": new grid)" : ")");
   if (rep.resolver_run && !rep.resolver.converged) msg << "; not converged: resolver: " << rep.resolver.reason;
   if (!withinStrain)

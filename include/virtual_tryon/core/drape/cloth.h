@@ -126,6 +126,12 @@ class ClothState {
   // The cloth as a triangle mesh in its current state (welded nodes shared).
   TriMesh mesh() const;
 
+  // Gauss-Seidel passes that move the ends of every structural spring longer than
+  // (1 + stretch_threshold) rest back to that length (positions, each end by its inverse mass),
+  // at most `passes`, fewer once none is over. Returns the passes that moved something. Used after
+  // a weld (weld_relax_passes) and on a worn garment after the resolver's correction.
+  int relaxStretchedSprings(int passes);
+
   // Applies the velocity fix alone (exposed for tests).
   // `restore` (1/s): each over-long spring's ends also approach each other at restore x its excess
   // (strain_restore / dt); 0: the velocity fix alone.
@@ -139,7 +145,6 @@ class ClothState {
  private:
   void computeForces(bool sewing);
   void rebuildAfterWeld(const std::vector<int>& rep);
-  void relaxStretchedSprings(int passes);  // weld_relax_passes, see ClothParams
 
   ClothParams params_;
   double mass_ = 0;

@@ -55,6 +55,16 @@ struct MapGrid {
 // The grid of the box [lo, hi] with map_size pixels along its longer x-y side (>= 1).
 MapGrid mapGridFor(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int mapSize, double tol);
 
+// The top view: the body turned about x so that world y (up) is the maps' depth axis,
+// q = (x, -z, y), a rotation (faces keep their orientation). DepthMaps of topViewMesh(body) hold
+// the body's tops in the front map and its undersides in the back map, over the x-z plane; look a
+// world point p up at topViewPoint(p). A normal n_q of those maps is (n_q.x, n_q.z, -n_q.y) in the
+// world. With the front view, a point inside the body lies inside both views' depth intervals;
+// one that lies outside either is outside the body (the front view alone cannot see a concavity
+// along z, such as the hollow above a foot in front of the shin).
+inline Eigen::Vector3d topViewPoint(const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), -p.z(), p.y()); }
+TriMesh topViewMesh(const TriMesh& body);
+
 class DepthMaps {
  public:
   // Renders both maps with a CPU z-buffer rasterizer. `body` must be valid. The map size is

@@ -36,7 +36,21 @@ struct WornGarmentParams {
   // of a body moving within it share their pixels. A frame that leaves it gets a new grid, and that
   // one interval is not interpolated (WornFrameReport::grid_rebuilt).
   double grid_margin = 0.25;
+  // After the resolver's correction the cloth goes on from the corrected garment, less its spikes:
+  // up to this many passes move the ends of each structural spring longer than (1 +
+  // stretch_threshold) rest back to it (ClothState::relaxStretchedSprings). A spike of the
+  // correction (a foot through a trouser hem: springs 6x long) would otherwise snap back at over
+  // 100 m/s in the next frame's steps. The returned garment is the resolver's. 0: off.
+  int relax_passes = 10;
+  // A frame whose steps blow up is stepped again from where it began with half the step, at most
+  // this many times; then the frame fails (nothing moved).
+  int step_halvings = 2;
   int max_steps_per_frame = 5000;  // a longer interval is refused
+  // Beyond the paper's front and back maps, a second pair along y (the body's tops and undersides):
+  // a point collides only when it is inside the body seen from the front and from above. The front
+  // view alone cannot see the concavity above a foot: a trouser hem over a lifted foot lies
+  // between the heel's back and the instep's front, is pushed out to the instep and caught.
+  bool top_view = true;
 };
 
 struct WornFrameReport {
@@ -45,6 +59,8 @@ struct WornFrameReport {
   std::string message;
   int steps = 0;
   double dt = 0;           // s
+  int step_halvings = 0;   // times the frame's step was halved after a blow-up
+  int relax_passes = 0;    // passes that relaxed the cloth's spikes after the resolver
   bool interpolated = false, grid_rebuilt = false;
   std::size_t colliding_nodes = 0;  // the largest count of colliding nodes over the steps
   double strain_max = 0;   // |l / l0 - 1| over structural springs of the returned garment
@@ -76,18 +92,26 @@ class WornGarment {
   const WornGarmentParams& params() const { return params_; }
   const MapGrid& grid() const { return grid_; }
 
+  // A frame's maps: the front pair (along z) and, with top_view, the top pair (along y).
+  struct FrameMaps {
+    std::shared_ptr<const DepthMaps> front, top;
+  };
+
  private:
-  MapGrid gridAround(const Body& body) const;
-  bool stepCloth(const DepthMaps& from, const DepthMaps& to, double seconds, WornFrameReport& rep);
+  MapGrid gridAround(const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax) const;
+  static void topViewBox(const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+  FrameMaps renderMaps(const Body& body) const;
+  bool stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt, WornFrameReport& rep);
+  bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
   void resolveFrame(const Body& body, WornFrameReport& rep);
 
   WornGarmentParams params_;
   std::optional<ClothState> cloth_;
   TriMesh garment_;
   std::vector<double> strain_;
-  MapGrid grid_;
+  MapGrid grid_, grid_top_;
   double pixel_ = 0;  // m: the grid's pixel side, kept when a new grid is made
-  std::shared_ptr<const DepthMaps> maps_;  // of the frame the cloth is on, on grid_
+  FrameMaps maps_;  // of the frame the cloth is on, on grid_ (and grid_top_)
   ResolverParams frame_resolver_;
 };
 
