@@ -418,19 +418,19 @@ TEST(DepthMaps, TopViewSeesTheHollowAboveAFoot) {
   vt::CollisionParams cp;
   cp.tol = 0.003;
   const vt::DepthMaps front(boot, cp);
-  const vt::DepthMaps top(vt::topViewMesh(boot), cp);
+  const vt::DepthMaps top(vt::viewMesh(vt::MapView::Top, boot), cp);
   Eigen::Vector3d n;
   double depth = 0;
   const Eigen::Vector3d hollow(0, 0.10, 0.10);  // above the foot (its top at y 0.06), shin to toes
   ASSERT_TRUE(front.collide(hollow, n, &depth));
   EXPECT_GT(depth, 0.04);
-  EXPECT_FALSE(top.collide(vt::topViewPoint(hollow), n, &depth));
+  EXPECT_FALSE(top.collide(vt::viewPoint(vt::MapView::Top, hollow), n, &depth));
   const Eigen::Vector3d inShin(0, 0.30, 0.01);
   EXPECT_TRUE(front.collide(inShin, n, &depth));
-  EXPECT_TRUE(top.collide(vt::topViewPoint(inShin), n, &depth));
+  EXPECT_TRUE(top.collide(vt::viewPoint(vt::MapView::Top, inShin), n, &depth));
   const Eigen::Vector3d onFoot(0, 0.059, 0.10);  // just under the foot's top, shin to toes
-  ASSERT_TRUE(top.collide(vt::topViewPoint(onFoot), n, &depth));
-  const Eigen::Vector3d up(n.x(), n.z(), -n.y());
+  ASSERT_TRUE(top.collide(vt::viewPoint(vt::MapView::Top, onFoot), n, &depth));
+  const Eigen::Vector3d up = vt::worldDirection(vt::MapView::Top, n);
   EXPECT_GT(up.y(), 0.9) << up.transpose();
   EXPECT_LT(depth, 0.003 + 0.002);
 }

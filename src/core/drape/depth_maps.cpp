@@ -436,13 +436,11 @@ Eigen::Vector3d collisionResponse(const Eigen::Vector3d& v, const Eigen::Vector3
   return friction * vt + vn;
 }
 
-TriMesh topViewMesh(const TriMesh& body) {
+TriMesh viewMesh(MapView v, const TriMesh& body) {
   TriMesh t;
   t.F = body.F;
   t.V.resize(body.V.rows(), 3);
-  t.V.col(0) = body.V.col(0);
-  t.V.col(1) = -body.V.col(2);
-  t.V.col(2) = body.V.col(1);
+  for (Eigen::Index i = 0; i < body.V.rows(); ++i) t.V.row(i) = viewPoint(v, body.V.row(i).transpose()).transpose();
   return t;
 }
 

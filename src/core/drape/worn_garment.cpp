@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace virtual_tryon {
@@ -25,27 +26,31 @@ std::string num(double v) {
 constexpr double kMaxSurfaceSpeed = 5.0;
 
 // The body between two frames' maps on one grid, at time s in [0, 1] of the interval (the blend of
-// each pixel's depth and normal; see worn_garment.h), and its speed along the normal. With the top
-// view, a point deeper than the tolerance shell collides only when the top view sees it inside
-// too (the body is inside both views' depth intervals, so nothing truly inside is missed); the
-// front view gives the normal, depth and speed (a wall moving sideways, a leg swinging, seen from
-// above is a depth that jumps).
+// each pixel's depth and normal; see worn_garment.h), and its speed along the normal. With the other
+// views, a point deeper than the tolerance shell collides only when each of them sees it inside too
+// (the body is inside every view's depth interval, so nothing truly inside is missed); the front
+// view gives the normal, depth and speed (a wall moving sideways, a leg swinging, seen from above
+// is a depth that jumps).
 class MovingMaps {
  public:
   MovingMaps(const WornGarment::FrameMaps& a, const WornGarment::FrameMaps& b, double seconds, bool interpolate,
              bool velocity)
-      : a_(*a.front), b_(*b.front), at_(a.top.get()), bt_(b.top.get()), inv_t_(1.0 / seconds),
-        interpolate_(interpolate), velocity_(velocity) {}
+      : a_(*a.front), b_(*b.front), inv_t_(1.0 / seconds), interpolate_(interpolate), velocity_(velocity) {
+    for (std::size_t k = 0; k < WornGarment::kOtherViews.size(); ++k)
+      if (a.other[k] && b.other[k]) others_.push_back({WornGarment::kOtherViews[k], a.other[k].get(), b.other[k].get()});
+  }
   void setTime(double s) { s_ = s; }
 
   bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
     if (!view(a_, b_, p, normal, depth, speed)) return false;
     // Within the tolerance shell the front view is right (the shell is along z: at a steep wall a
-    // point in it may lie far from the wall along y, and the top view would let it through).
-    if (!bt_ || !at_ || depth <= b_.tol()) return true;
+    // point in it may lie far from the wall along y, and another view would let it through).
+    if (depth <= b_.tol()) return true;
     Eigen::Vector3d nq;
     double dq, sq;
-    return view(*at_, *bt_, topViewPoint(p), nq, dq, sq);  // false: outside, seen from above
+    for (const Other& o : others_)
+      if (!view(*o.a, *o.b, viewPoint(o.view, p), nq, dq, sq)) return false;  // outside, seen from there
+    return true;
   }
 
  private:
@@ -85,10 +90,14 @@ class MovingMaps {
     return true;
   }
 
+  struct Other {
+    MapView view;
+    const DepthMaps* a;
+    const DepthMaps* b;
+  };
   const DepthMaps& a_;
   const DepthMaps& b_;
-  const DepthMaps* at_;
-  const DepthMaps* bt_;
+  std::vector<Other> others_;
   double inv_t_, s_ = 1;
   bool interpolate_, velocity_;
 };
@@ -137,10 +146,10 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
   pixel_ = body.depthMaps(params_.drape.collision)->pixelSize();
   grid_ = gridAround(body.boxMin(), body.boxMax());
-  if (params_.top_view) {
+  for (std::size_t k = 0; k < kOtherViews.size(); ++k) {
     Eigen::Vector3d lo, hi;
-    topViewBox(body, lo, hi);
-    grid_top_ = gridAround(lo, hi);
+    viewBox(kOtherViews[k], body, lo, hi);
+    other_grid_[k] = gridAround(lo, hi);
   }
   maps_ = renderMaps(body);
   // Each frame's resolve keeps the drape's final-resolve settings: edges past the polish strain
@@ -156,16 +165,29 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   return rep;
 }
 
-void WornGarment::topViewBox(const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-  lo = topViewPoint(Eigen::Vector3d(body.boxMin().x(), body.boxMin().y(), body.boxMax().z()));
-  hi = topViewPoint(Eigen::Vector3d(body.boxMax().x(), body.boxMax().y(), body.boxMin().z()));
+bool WornGarment::viewOn(std::size_t k) const {
+  return kOtherViews[k] == MapView::Top ? params_.top_view : params_.side_view;
+}
+
+void WornGarment::viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  lo.setConstant(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner((c & 1 ? body.boxMax() : body.boxMin()).x(), (c & 2 ? body.boxMax() : body.boxMin()).y(),
+                                 (c & 4 ? body.boxMax() : body.boxMin()).z());
+    const Eigen::Vector3d q = viewPoint(v, corner);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
 }
 
 WornGarment::FrameMaps WornGarment::renderMaps(const Body& body) const {
   FrameMaps m;
   m.front = std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
-  if (params_.top_view)
-    m.top = std::make_shared<const DepthMaps>(topViewMesh(body.mesh()), params_.drape.collision, grid_top_);
+  for (std::size_t k = 0; k < kOtherViews.size(); ++k)
+    if (viewOn(k))
+      m.other[k] = std::make_shared<const DepthMaps>(viewMesh(kOtherViews[k], body.mesh()), params_.drape.collision,
+                                                     other_grid_[k]);
   return m;
 }
 
@@ -260,17 +282,19 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
     grid_ = gridAround(next.boxMin(), next.boxMax());
     rep.grid_rebuilt = true;
   }
-  if (params_.top_view) {
+  for (std::size_t k = 0; k < kOtherViews.size(); ++k) {
+    if (!viewOn(k)) continue;
     Eigen::Vector3d lo, hi;
-    topViewBox(next, lo, hi);
-    if (!grid_top_.holds(lo, hi)) {
-      grid_top_ = gridAround(lo, hi);
+    viewBox(kOtherViews[k], next, lo, hi);
+    if (!other_grid_[k].holds(lo, hi)) {
+      other_grid_[k] = gridAround(lo, hi);
       rep.grid_rebuilt = true;
     }
   }
   FrameMaps to = renderMaps(next);
-  rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid()) &&
-                     (!to.top || sameGrid(maps_.top->grid(), to.top->grid()));
+  rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid());
+  for (std::size_t k = 0; k < kOtherViews.size(); ++k)
+    if (to.other[k]) rep.interpolated = rep.interpolated && sameGrid(maps_.other[k]->grid(), to.other[k]->grid());
   rep.seconds_maps = since(tMaps);
   const auto tCloth = Clock::now();
   if (!stepFrame(rep.interpolated ? maps_ : to, to, seconds, rep)) {

@@ -55,15 +55,34 @@ struct MapGrid {
 // The grid of the box [lo, hi] with map_size pixels along its longer x-y side (>= 1).
 MapGrid mapGridFor(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int mapSize, double tol);
 
-// The top view: the body turned about x so that world y (up) is the maps' depth axis,
-// q = (x, -z, y), a rotation (faces keep their orientation). DepthMaps of topViewMesh(body) hold
-// the body's tops in the front map and its undersides in the back map, over the x-z plane; look a
-// world point p up at topViewPoint(p). A normal n_q of those maps is (n_q.x, n_q.z, -n_q.y) in the
-// world. With the front view, a point inside the body lies inside both views' depth intervals;
-// one that lies outside either is outside the body (the front view alone cannot see a concavity
-// along z, such as the hollow above a foot in front of the shin).
-inline Eigen::Vector3d topViewPoint(const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), -p.z(), p.y()); }
-TriMesh topViewMesh(const TriMesh& body);
+// Other orthographic views of a body, each a rotation q = R p of the world (faces keep their
+// orientation) that makes another world axis the maps' depth axis (q.z):
+//   Front: q = p (the paper's view, depth along z);
+//   Top:   q = (x, -z, y), depth along y: the front map holds the body's tops, the back map its
+//          undersides, over the x-z plane;
+//   Side:  q = (-z, y, x), depth along x: the front map holds the body's left sides (+x), the back
+//          map its right, over the z-y plane.
+// DepthMaps of viewMesh(v, body) are looked up at viewPoint(v, p). A point inside the body lies
+// inside every view's depth interval; one that lies outside any is outside the body (the front
+// view alone cannot see a hollow along z, such as the gap above a raised foot in front of the
+// shin, or between an arm swung back and the torso).
+enum class MapView { Front, Top, Side };
+inline Eigen::Vector3d viewPoint(MapView v, const Eigen::Vector3d& p) {
+  switch (v) {
+    case MapView::Top: return Eigen::Vector3d(p.x(), -p.z(), p.y());
+    case MapView::Side: return Eigen::Vector3d(-p.z(), p.y(), p.x());
+    default: return p;
+  }
+}
+// A direction of view v's frame (a normal of its maps) in the world: R^T n.
+inline Eigen::Vector3d worldDirection(MapView v, const Eigen::Vector3d& n) {
+  switch (v) {
+    case MapView::Top: return Eigen::Vector3d(n.x(), n.z(), -n.y());
+    case MapView::Side: return Eigen::Vector3d(n.z(), n.y(), -n.x());
+    default: return n;
+  }
+}
+TriMesh viewMesh(MapView v, const TriMesh& body);
 
 class DepthMaps {
  public:
