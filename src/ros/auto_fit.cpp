@@ -5,8 +5,11 @@
 // one of the same kind; fits of the two kinds are kept apart, so neither is lost.
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/pattern_conversions.h"
+#include "virtual_tryon/ros/report_conversions.h"
 #include "virtual_tryon/ros/tryon_node.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <string>
 #include <utility>
@@ -110,6 +113,7 @@ void TryonNode::fitGarmentMesh() {
 
 void TryonNode::fitPattern() {
   std::shared_ptr<const virtual_tryon::GarmentPattern> pattern;
+  BodyState body;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!topic_body_.body) {
@@ -117,14 +121,79 @@ void TryonNode::fitPattern() {
       return;
     }
     pattern = topic_pattern_.msg;
+    body = topic_body_;
   }
   if (!pattern) return;
+  if (stepWornGarment(body, pattern)) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (topic_body_.series == body.series) fit_frame_mark_ = std::max(fit_frame_mark_, body.frame_index + 1);
+    return;
+  }
   const pcl_msgs::PolygonMesh noBody;  // empty: the latest body
   DrapeInput in;
   in.body = &noBody;
   in.pattern = pattern.get();
+  in.wear = true;
   DrapeOutput out;
   drapeCaught(in, out, nullptr, /*publish=*/true);
+  if (out.success && worn_.garment && worn_.garment->worn())
+    worn_.pattern = pattern;
+  else
+    worn_ = WornState();
+}
+
+bool TryonNode::stepWornGarment(const BodyState& body,
+                                const std::shared_ptr<const virtual_tryon::GarmentPattern>& pattern) {
+  if (!worn_.garment || !worn_.garment->worn() || worn_.pattern != pattern || body.series != worn_.body.series ||
+      !body.refitted || body.frame_index <= worn_.body.frame_index)
+    return false;
+  // The time since the frame the cloth is on (frames dropped between are stepped over in one go).
+  double seconds = 0;
+  if (!body.stamp.isZero() && !worn_.body.stamp.isZero()) seconds = (body.stamp - worn_.body.stamp).toSec();
+  if (!(seconds > 0)) seconds = body.frame_interval.toSec();
+  if (!(seconds > 0)) seconds = 1.0 / 30;
+  const WornFrameReport r = worn_.garment->follow(*body.body, seconds);
+  virtual_tryon::FitReport fit;
+  fit.kind = "drape";
+  fit.header = fitHeader(body);
+  fit.body = body.report;
+  noteFrame(fit, body);
+  fit.success = r.success;
+  char head[160];
+  std::snprintf(head, sizeof head, "worn garment stepped from body frame %llu to %llu (%.4f s): ",
+                static_cast<unsigned long long>(worn_.body.frame_index),
+                static_cast<unsigned long long>(body.frame_index), seconds);
+  fit.message = head + r.message;
+  virtual_tryon::DrapeReport& d = fit.drape;
+  d.converged = r.converged;
+  d.message = r.message;
+  d.vertices = static_cast<std::uint32_t>(worn_.garment->garment().V.rows());
+  d.triangles = static_cast<std::uint32_t>(worn_.garment->garment().F.rows());
+  d.iterations = static_cast<std::uint32_t>(r.steps);
+  d.dt = r.dt;
+  d.collision_mode = "image";
+  d.seconds_simulation = r.seconds_cloth;
+  d.seconds_resolve = r.seconds_resolve;
+  d.seconds_total = r.seconds_total;
+  d.strain_max = r.strain_stepped;
+  d.strain_max_final = r.strain_max;
+  d.max_speed = r.max_speed;
+  d.resolver_run = r.resolver_run;
+  if (r.resolver_run) d.resolver = rc::toMsg(r.resolver);
+  d.body = body.report;
+  pcl_msgs::PolygonMesh garment;
+  if (r.success) {
+    rc::toMsg(worn_.garment->garment(), fit.header, garment);
+    worn_.body = body;
+    ROS_DEBUG_STREAM("tryon_node: auto_fit: " << fit.message);
+  } else {
+    ROS_WARN_STREAM("tryon_node: auto_fit: " << fit.message << "; the next frame drapes afresh");
+  }
+  publishFit(fit, garment);
+  if (r.success)
+    publishMarkers(body.body->mesh(), body.frame, &worn_.garment->garment(), nullptr, &worn_.garment->vertexStrain());
+  if (!r.success) worn_ = WornState();
+  return true;
 }
 
 }  // namespace virtual_tryon

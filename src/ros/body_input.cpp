@@ -205,6 +205,7 @@ void TryonNode::installState(const BodyState& state, bool newBody) {
       ++frames_dropped_;
     if (newBody) fit_frame_mark_ = 0;
     topic_body_ = state;
+    if (newBody) topic_body_.series = ++body_series_;
   }
   // The world placement follows the body as installed, not each frame (it would sway with it).
   if (newBody) publishWorldTransform(state);

@@ -305,8 +305,19 @@ bool TryonNode::drape(const DrapeInput& req, DrapeOutput& res, const DrapeProgre
   params.resolver.body_uncertainty = body.report.uncertainty;
   const int rendersBefore = body.body->depthMapRenders();
   TriMesh garment;
-  const DrapeResult report =
-      virtual_tryon::drape(*body.body, pattern, params, garment, progress);
+  DrapeResult report;
+  if (req.wear && params.mode == CollisionMode::ImageSpace) {
+    // auto_fit: worn, so that the body's later frames step this cloth instead of draping afresh.
+    WornGarmentParams wp;
+    wp.drape = params;
+    worn_ = WornState();
+    worn_.garment = std::make_unique<WornGarment>(wp);
+    report = worn_.garment->dress(*body.body, pattern, progress);
+    garment = worn_.garment->garment();
+    worn_.body = body;
+  } else {
+    report = virtual_tryon::drape(*body.body, pattern, params, garment, progress);
+  }
   const bool rendered = body.body->depthMapRenders() > rendersBefore;
 
   res.success = report.success;

@@ -5,7 +5,13 @@
 // latest garment on it. Every fitted garment the node publishes is checked against its own frame's
 // body (regenerated here, found by the stamp) by the referee; every frame is fitted or counted as
 // dropped; the last one is fitted.
+//
+// The test also publishes a pattern (the procedural sleeveless shirt) on ~garment_pattern: the node
+// drapes it on the first body frame it meets and then wears it, each later frame stepping that cloth
+// to the frame (WornGarment::follow; its report says "worn garment stepped"). Each worn frame the
+// node publishes is checked by the referee against its own body frame in the same way.
 #include "fixtures.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
 #include "virtual_tryon/core/scenes/procedural_animation.h"
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
@@ -22,7 +28,9 @@
 #include <vector>
 
 namespace vt = virtual_tryon;
+using virtual_tryon_test::contains;
 using virtual_tryon_test::meshFromMsg;
+using virtual_tryon_test::patternMsg;
 using virtual_tryon_test::waitUntil;
 
 namespace {
@@ -35,14 +43,16 @@ int frameOf(const ros::Time& stamp) { return static_cast<int>(std::lround((stamp
 struct Collector {
   std::mutex m;
   std::vector<vt::FitReport::ConstPtr> reports;
-  std::map<ros::Time, pcl_msgs::PolygonMesh::ConstPtr> garments;  // by stamp
+  // By stamp, then vertex count: a frame's resolved tube and worn shirt share its stamp.
+  std::map<std::pair<ros::Time, std::size_t>, pcl_msgs::PolygonMesh::ConstPtr> garments;
   std::vector<ros::Subscriber> subs;
+  ros::Publisher pattern_pub;
 
   Collector() {
     ros::NodeHandle nh;
     subs.push_back(nh.subscribe<pcl_msgs::PolygonMesh>("/tryon_node/fitted_garment", 100, [this](const auto& g) {
       std::lock_guard<std::mutex> l(m);
-      garments[g->header.stamp] = g;
+      garments[{g->header.stamp, meshFromMsg(*g).V.rows()}] = g;
     }));
     subs.push_back(nh.subscribe<vt::FitReport>("/tryon_node/fit_report", 100, [this](const auto& r) {
       std::lock_guard<std::mutex> l(m);
@@ -50,11 +60,27 @@ struct Collector {
     }));
   }
 
-  bool lastFrameFitted() {
+  // Latched, so that the node has it whenever it starts.
+  void publishPattern() {
+    vt::Pattern p;
+    std::string error;
+    ASSERT_TRUE(vt::readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) +
+                                        "/config/patterns/procedural/sleeveless_shirt.yaml", p, error))
+        << error;
+    ros::NodeHandle nh;
+    pattern_pub = nh.advertise<vt::GarmentPattern>("/tryon_node/garment_pattern", 1, /*latch=*/true);
+    pattern_pub.publish(patternMsg(p, "body"));
+  }
+
+  static std::size_t vertices(const vt::FitReport& r, std::size_t tube) {
+    return r.kind == "drape" ? r.drape.vertices : tube;
+  }
+
+  bool lastFrameFitted(const std::string& kind, std::size_t tube) {
     std::lock_guard<std::mutex> l(m);
     for (const auto& r : reports)
-      if (r->kind == "resolve" && r->body_refitted && frameOf(r->header.stamp) == kFrames - 1 &&
-          garments.count(r->header.stamp))
+      if (r->kind == kind && r->body_refitted && frameOf(r->header.stamp) == kFrames - 1 &&
+          garments.count({r->header.stamp, vertices(*r, tube)}))
         return true;
     return false;
   }
@@ -64,27 +90,28 @@ Collector* collector = nullptr;
 
 }  // namespace
 
-TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
-  ASSERT_TRUE(waitUntil([] { return collector->lastFrameFitted(); }, 240.0, 0.1))
-      << "the last frame's fit did not arrive";
+// Every fit of `kind` ("resolve": the tube; "drape": the worn shirt) clean on its own body frame;
+// returns the frames fitted and the node's count of frames dropped.
+void checkFits(const std::string& kind, std::set<int>& fitted, std::uint64_t& dropped, int& worn) {
+  vt::ProceduralAnimationParams p;
+  p.frames = kFrames;
+  const vt::ProceduralAnimation anim = vt::makeProceduralAnimation(p);
+  const std::size_t tube = static_cast<std::size_t>(anim.garment.V.rows());
+  ASSERT_TRUE(waitUntil([&] { return collector->lastFrameFitted(kind, tube); }, 240.0, 0.1))
+      << "the last frame's " << kind << " fit did not arrive";
   std::vector<vt::FitReport::ConstPtr> reports;
-  std::map<ros::Time, pcl_msgs::PolygonMesh::ConstPtr> garments;
+  std::map<std::pair<ros::Time, std::size_t>, pcl_msgs::PolygonMesh::ConstPtr> garments;
   {
     std::lock_guard<std::mutex> l(collector->m);
     reports = collector->reports;
     garments = collector->garments;
   }
-  vt::ProceduralAnimationParams p;
-  p.frames = kFrames;
-  const vt::ProceduralAnimation anim = vt::makeProceduralAnimation(p);
-  std::set<int> fitted;
-  std::uint64_t dropped = 0;
   for (const auto& r : reports) {
-    if (r->kind != "resolve") continue;
+    if (r->kind != kind) continue;
     // A refitted frame's fit carries that frame's stamp; the body as first installed (frame 0)
     // is fitted at the time of the fit.
     const int f = r->body_refitted ? frameOf(r->header.stamp) : 0;
-    SCOPED_TRACE("frame " + std::to_string(f));
+    SCOPED_TRACE(kind + " of frame " + std::to_string(f));
     ASSERT_GE(f, 0);
     ASSERT_LT(f, kFrames);
     EXPECT_TRUE(r->success) << r->message;
@@ -93,10 +120,12 @@ TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
     EXPECT_LE(r->body_frame_index, static_cast<std::uint64_t>(f));
     EXPECT_EQ(r->body_refitted, r->body_frame_index > 0);
     EXPECT_EQ(f == 0, r->body_frame_index == 0);
+    if (kind == "drape" && contains(r->message, "worn garment stepped")) ++worn;
     dropped = std::max<std::uint64_t>(dropped, r->frames_dropped);
-    std::printf("fit of frame %d: node's frame index %llu, dropped so far %llu\n", f,
-                static_cast<unsigned long long>(r->body_frame_index), static_cast<unsigned long long>(r->frames_dropped));
-    const auto g = garments.find(r->header.stamp);
+    std::printf("%s of frame %d: node's frame index %llu, dropped so far %llu: %s\n", kind.c_str(), f,
+                static_cast<unsigned long long>(r->body_frame_index), static_cast<unsigned long long>(r->frames_dropped),
+                r->message.substr(0, 120).c_str());
+    const auto g = garments.find({r->header.stamp, Collector::vertices(*r, tube)});
     ASSERT_NE(g, garments.end()) << "no garment published with this report";
     vt::TriMesh body = anim.body;
     body.V = anim.body_frames[static_cast<std::size_t>(f)];
@@ -106,11 +135,25 @@ TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
     EXPECT_EQ(c.vertices_inside, 0u);
     fitted.insert(f);
   }
-  std::printf("frames fitted %zu of %d, dropped (node's count) %llu\n", fitted.size(), kFrames,
-              static_cast<unsigned long long>(dropped));
-  EXPECT_TRUE(fitted.count(kFrames - 1));
-  EXPECT_GE(fitted.size(), 2u);  // at least one frame after the first: a refitted body was fitted
-  // No frame lost in silence, none counted twice: each is fitted or counted as dropped.
+}
+
+TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
+  std::set<int> resolved, worn;
+  std::uint64_t dropped = 0;
+  int stepped = 0;
+  checkFits("resolve", resolved, dropped, stepped);
+  // The pattern, draped once and worn: later frames step it (no fresh drape), and each is clean.
+  checkFits("drape", worn, dropped, stepped);
+  std::printf("frames resolved %zu, worn %zu (stepped %d) of %d, dropped (node's count) %llu\n", resolved.size(),
+              worn.size(), stepped, kFrames, static_cast<unsigned long long>(dropped));
+  EXPECT_TRUE(resolved.count(kFrames - 1));
+  EXPECT_TRUE(worn.count(kFrames - 1));
+  EXPECT_GE(resolved.size(), 2u);  // at least one frame after the first: a refitted body was fitted
+  EXPECT_GE(stepped, 1) << "no frame stepped the worn garment";
+  // No frame lost in silence, none counted twice: each is fitted (resolved, worn or both) or
+  // counted as dropped.
+  std::set<int> fitted = resolved;
+  fitted.insert(worn.begin(), worn.end());
   EXPECT_EQ(fitted.size() + dropped, static_cast<std::size_t>(kFrames));
 }
 
@@ -120,6 +163,7 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
   Collector c;
+  c.publishPattern();
   collector = &c;
   const int result = RUN_ALL_TESTS();
   collector = nullptr;

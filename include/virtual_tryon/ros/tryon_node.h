@@ -22,6 +22,7 @@
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/geometry/mesh.h"
 #include "virtual_tryon/core/drape/pattern.h"
+#include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/body/scan_meshing.h"
 #include "virtual_tryon/ros/job_queue.h"
@@ -85,6 +86,7 @@ class TryonNode {
     std::uint64_t frame_index = 0;      // 0 as installed; n: the n-th frame of that body since
     bool refitted = false;              // a frame of the body before it (Body(previous, V))
     ros::Duration frame_interval;       // a frame: its stamp less the previous frame's
+    std::uint64_t series = 0;           // the body installed (1, 2, ...) this is a frame of; 0: a request's
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
@@ -101,6 +103,7 @@ class TryonNode {
     std::string collision_mode;
     std::uint32_t max_iterations = 0;
     bool skip_resolve = false;
+    bool wear = false;  // auto_fit: drape as worn_ and keep it, so that the body's frames step it
   };
   // What a drape gives back (the service response and the action result have these fields).
   struct DrapeOutput {
@@ -139,6 +142,10 @@ class TryonNode {
   void postFits();  // queues a fit for each garment kind received so far (auto_fit)
   void fitGarmentMesh();
   void fitPattern();
+  // The worn garment (auto_fit's drape, kept) stepped to `body`, a later frame of the body it is
+  // on (WornGarment::follow), and published. False when it is not such a frame (a fresh drape is
+  // due).
+  bool stepWornGarment(const BodyState& body, const std::shared_ptr<const virtual_tryon::GarmentPattern>& pattern);
   bool onResolve(virtual_tryon::ResolvePenetration::Request& req,
                  virtual_tryon::ResolvePenetration::Response& res);
 
@@ -222,6 +229,16 @@ class TryonNode {
   std::uint64_t fit_frame_mark_ = 0;
 
   std::mutex publish_mutex_;  // one publisher at a time: ~fitted_garment, ~fit_report, ~markers agree
+
+  std::uint64_t body_series_ = 0;  // bodies installed so far (BodyState::series)
+
+  // auto_fit's drape, worn through the body's frames (used on the worker thread only).
+  struct WornState {
+    std::unique_ptr<WornGarment> garment;
+    std::shared_ptr<const virtual_tryon::GarmentPattern> pattern;  // the message it was draped from
+    BodyState body;  // the frame it is on
+  };
+  WornState worn_;
 
   LatestJobQueue jobs_;  // last: its thread stops first when the node is destroyed
 };

@@ -261,7 +261,8 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   strain_ = cloth.nodeStrain(garment_.V);
   rep.strain_max = 0;
   for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
-  if (params_.relax_passes > 0 && rep.strain_max > cloth.params().stretch_threshold)
+  const double spike = params_.drape.max_strain > 0 ? params_.drape.max_strain : cloth.params().stretch_threshold;
+  if (params_.relax_passes > 0 && rep.strain_max > spike)
     rep.relax_passes = cloth.relaxStretchedSprings(params_.relax_passes);
 }
 

@@ -38,8 +38,9 @@ struct WornGarmentParams {
   // one interval is not interpolated (WornFrameReport::grid_rebuilt).
   double grid_margin = 0.25;
   // After the resolver's correction the cloth goes on from the corrected garment, less its spikes:
-  // up to this many passes move the ends of each structural spring longer than (1 +
-  // stretch_threshold) rest back to it (ClothState::relaxStretchedSprings). A spike of the
+  // when a spring is stretched beyond the drape's max_strain, up to this many passes move the ends
+  // of each structural spring longer than (1 + stretch_threshold) rest back to it
+  // (ClothState::relaxStretchedSprings). A spike of the
   // correction (a foot through a trouser hem: springs 6x long) would otherwise snap back at over
   // 100 m/s in the next frame's steps. The returned garment is the resolver's. 0: off.
   int relax_passes = 10;
