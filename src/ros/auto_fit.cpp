@@ -164,23 +164,8 @@ bool TryonNode::stepWornGarment(const BodyState& body,
                 static_cast<unsigned long long>(worn_.body.frame_index),
                 static_cast<unsigned long long>(body.frame_index), seconds);
   fit.message = head + r.message;
-  virtual_tryon::DrapeReport& d = fit.drape;
-  d.converged = r.converged;
-  d.message = r.message;
-  d.vertices = static_cast<std::uint32_t>(worn_.garment->garment().V.rows());
-  d.triangles = static_cast<std::uint32_t>(worn_.garment->garment().F.rows());
-  d.iterations = static_cast<std::uint32_t>(r.steps);
-  d.dt = r.dt;
-  d.collision_mode = "image";
-  d.seconds_simulation = r.seconds_cloth;
-  d.seconds_resolve = r.seconds_resolve;
-  d.seconds_total = r.seconds_total;
-  d.strain_max = r.strain_stepped;
-  d.strain_max_final = r.strain_max;
-  d.max_speed = r.max_speed;
-  d.resolver_run = r.resolver_run;
-  if (r.resolver_run) d.resolver = rc::toMsg(r.resolver);
-  d.body = body.report;
+  fit.drape = rc::toMsg(r, worn_.garment->garment());
+  fit.drape.body = body.report;
   pcl_msgs::PolygonMesh garment;
   if (r.success) {
     rc::toMsg(worn_.garment->garment(), fit.header, garment);

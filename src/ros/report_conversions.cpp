@@ -112,6 +112,26 @@ DrapeReport toMsg(const DrapeResult& r, CollisionMode mode) {
   return m;
 }
 
+DrapeReport toMsg(const WornFrameReport& r, const TriMesh& garment) {
+  DrapeReport m;
+  m.converged = r.converged;
+  m.message = r.message;
+  m.vertices = u32(static_cast<std::size_t>(garment.V.rows()));
+  m.triangles = u32(static_cast<std::size_t>(garment.F.rows()));
+  m.iterations = u32(r.steps);
+  m.dt = r.dt;
+  m.collision_mode = collisionModeName(CollisionMode::ImageSpace);
+  m.seconds_simulation = r.seconds_cloth;
+  m.seconds_resolve = r.seconds_resolve;
+  m.seconds_total = r.seconds_total;
+  m.strain_max = r.strain_stepped;
+  m.strain_max_final = r.strain_max;
+  m.max_speed = r.max_speed;
+  m.resolver_run = r.resolver_run;
+  if (r.resolver_run) m.resolver = toMsg(r.resolver);
+  return m;
+}
+
 std::string collisionModeName(CollisionMode mode) {
   return mode == CollisionMode::ObjectSpace ? "object" : "image";
 }

@@ -6,12 +6,15 @@
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
 
+#include "pattern_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <memory>
 
 using namespace virtual_tryon;
+using virtual_tryon_test::proceduralPattern;
 
 namespace {
 
@@ -20,13 +23,6 @@ const Body& proceduralBody() {
   return *body;
 }
 
-Pattern loadPattern(const std::string& name) {
-  Pattern p;
-  std::string err;
-  EXPECT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
-      << err;
-  return p;
-}
 
 }  // namespace
 
@@ -35,7 +31,7 @@ TEST(Drape, SkirtOnTheProceduralBodyConvergesWithZeroCrossings) {
   DrapeParams params;
   params.spacing = 0.03;
   TriMesh garment;
-  const DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  const DrapeResult rep = drape(body, proceduralPattern("skirt.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(rep.converged) << rep.message;
   EXPECT_EQ(rep.seams_open, 0);
@@ -80,7 +76,7 @@ TEST_P(ProceduralGarment, ConvergesToOneCleanMesh) {
   params.spacing = GetParam().spacing;
   TriMesh garment;
   const std::string file = std::string(GetParam().pattern) + ".yaml";
-  const DrapeResult rep = drape(body, loadPattern(file), params, garment);
+  const DrapeResult rep = drape(body, proceduralPattern(file), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(rep.converged) << rep.message;
   EXPECT_EQ(rep.seams_open, 0) << rep.message;
@@ -106,7 +102,7 @@ TEST_P(ProceduralGarment, ConvergesToOneCleanMesh) {
   EXPECT_EQ(rep.penetrating_after, 0u);
   // Watertight: the referee's loop count is the pattern's openings (and the report's).
   EXPECT_EQ(rep.boundary_loops, c.boundary_loops);
-  EXPECT_EQ(rep.openings, static_cast<std::size_t>(patternOpenings(loadPattern(file))));
+  EXPECT_EQ(rep.openings, static_cast<std::size_t>(patternOpenings(proceduralPattern(file))));
   EXPECT_EQ(c.boundary_loops, rep.openings);
 }
 
@@ -157,7 +153,7 @@ TEST(Drape, TrousersStayAtTheWaist) {
   DrapeParams params;
   params.spacing = 0.04;
   TriMesh garment;
-  const DrapeResult rep = drape(body, loadPattern("trousers.yaml"), params, garment);
+  const DrapeResult rep = drape(body, proceduralPattern("trousers.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(rep.converged) << rep.message;
   // Their top stays between the waist and the hips (sliding down, it ended on the hips with
@@ -177,7 +173,7 @@ TEST(Drape, TheFinalResolveKeepsSpringsWithinTheirRestStrain) {
   DrapeParams params;
   params.spacing = 0.032;
   TriMesh garment;
-  const DrapeResult rep = drape(body, loadPattern("dress.yaml"), params, garment);
+  const DrapeResult rep = drape(body, proceduralPattern("dress.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(rep.converged) << rep.message;
   ASSERT_TRUE(rep.resolver_run);
@@ -189,7 +185,7 @@ TEST(Drape, TheFinalResolveKeepsSpringsWithinTheirRestStrain) {
 
   params.resolve_rest_strain = 0;  // the draped garment's own lengths only
   TriMesh loose;
-  const DrapeResult without = drape(body, loadPattern("dress.yaml"), params, loose);
+  const DrapeResult without = drape(body, proceduralPattern("dress.yaml"), params, loose);
   ASSERT_TRUE(without.success) << without.message;
   EXPECT_GT(without.strain_max_final, rep.strain_max_final + 0.01);
 }
@@ -200,7 +196,7 @@ TEST(Drape, MapsAreRenderedOncePerBody) {
   params.spacing = 0.05;
   params.max_iterations = 20;
   params.resolve = false;
-  Pattern p = loadPattern("skirt.yaml");
+  Pattern p = proceduralPattern("skirt.yaml");
   TriMesh g;
   drape(body, p, params, g);
   drape(body, p, params, g);
@@ -219,7 +215,7 @@ TEST(Drape, StiffClothWithTheAutomaticStepStaysFinite) {
   params.cloth.k_flexion *= 100;
   params.max_iterations = 3000;
   TriMesh garment;
-  const DrapeResult rep = drape(body, loadPattern("dress.yaml"), params, garment);
+  const DrapeResult rep = drape(body, proceduralPattern("dress.yaml"), params, garment);
   ASSERT_TRUE(rep.success) << rep.message;
   EXPECT_TRUE(garment.V.allFinite());
   EXPECT_LE(rep.dt, rep.dt_bound);
@@ -233,14 +229,14 @@ TEST(Drape, ADtAboveTheBoundIsRefusedOrClamped) {
   params.spacing = 0.05;
   params.dt = 1.0;
   TriMesh garment;
-  DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  DrapeResult rep = drape(body, proceduralPattern("skirt.yaml"), params, garment);
   EXPECT_FALSE(rep.success);
   EXPECT_NE(rep.message.find("stability bound"), std::string::npos) << rep.message;
   EXPECT_EQ(garment.V.rows(), 0);
   params.clamp_dt = true;
   params.max_iterations = 50;
   params.resolve = false;
-  rep = drape(body, loadPattern("skirt.yaml"), params, garment);
+  rep = drape(body, proceduralPattern("skirt.yaml"), params, garment);
   EXPECT_TRUE(rep.success) << rep.message;
   ASSERT_EQ(rep.warnings.size(), 1u);
   EXPECT_NE(rep.warnings[0].find("clamped"), std::string::npos);
@@ -249,7 +245,7 @@ TEST(Drape, ADtAboveTheBoundIsRefusedOrClamped) {
 
 TEST(Drape, BadParametersAreRefusedWithTheirName) {
   const Body& body = proceduralBody();
-  const Pattern p = loadPattern("skirt.yaml");
+  const Pattern p = proceduralPattern("skirt.yaml");
   auto refuse = [&](DrapeParams params, const std::string& name) {
     TriMesh g;
     const DrapeResult rep = drape(body, p, params, g);
@@ -281,7 +277,7 @@ TEST(Drape, ObjectSpaceCollisionsDrapeTooAndCancelStops) {
   params.max_iterations = 400;
   TriMesh garment;
   int calls = 0;
-  const DrapeResult rep = drape(body, loadPattern("skirt.yaml"), params, garment,
+  const DrapeResult rep = drape(body, proceduralPattern("skirt.yaml"), params, garment,
                                 [&](const DrapeProgress& pr) {
                                   ++calls;
                                   return pr.iteration < 100;

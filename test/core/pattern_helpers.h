@@ -1,10 +1,11 @@
 // Shared by the pattern suites (panel_placement, mesh_pattern, validate_pattern, stretch,
-// normalize_pattern, pattern_yaml): small patterns built in code, and what to look at in a meshed
-// ClothMesh.
+// normalize_pattern, pattern_yaml) and the drape suites (drape, worn_garment): small patterns built
+// in code, the shipped procedural patterns, and what to look at in a meshed ClothMesh.
 #pragma once
 
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/geometry/mesh.h"
+#include "virtual_tryon/core/io/pattern_yaml.h"
 
 #include <gtest/gtest.h>
 
@@ -27,6 +28,16 @@ namespace virtual_tryon_test {
 namespace vt = virtual_tryon;
 
 inline constexpr double kPi = 3.14159265358979323846;
+
+// A shipped pattern of config/patterns/procedural/ (a failure of the calling test when it does not
+// read).
+inline vt::Pattern proceduralPattern(const std::string& name) {
+  vt::Pattern p;
+  std::string err;
+  EXPECT_TRUE(vt::readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
+      << err;
+  return p;
+}
 
 inline vt::MatrixX2d outlineOf(std::initializer_list<std::pair<double, double>> pts) {
   vt::MatrixX2d P(static_cast<Eigen::Index>(pts.size()), 2);

@@ -9,22 +9,18 @@
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
 
+#include "pattern_helpers.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <memory>
 
 using namespace virtual_tryon;
+using virtual_tryon_test::proceduralPattern;
 
 namespace {
 
-Pattern loadPattern(const std::string& name) {
-  Pattern p;
-  std::string err;
-  EXPECT_TRUE(readPatternYaml(std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/" + name, p, err))
-      << err;
-  return p;
-}
 
 WornGarmentParams wornParams() {
   WornGarmentParams p;
@@ -65,7 +61,7 @@ TEST(WornGarment, TheShirtFollowsTheSwayingTorsoCleanEveryFrame) {
   const ProceduralAnimation anim = makeProceduralAnimation(ap);
   auto body = std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F});
   WornGarment worn(wornParams());
-  const DrapeResult dressed = worn.dress(*body, loadPattern("sleeveless_shirt.yaml"));
+  const DrapeResult dressed = worn.dress(*body, proceduralPattern("sleeveless_shirt.yaml"));
   ASSERT_TRUE(dressed.success) << dressed.message;
   ASSERT_TRUE(worn.worn());
   const ProceduralBodyLandmarks L = proceduralBodyLandmarks();
@@ -114,7 +110,7 @@ TEST(WornGarment, RefusesWhatItCannotStep) {
   WornGarmentParams objectSpace = wornParams();
   objectSpace.drape.mode = CollisionMode::ObjectSpace;
   WornGarment object(objectSpace);
-  const DrapeResult d = object.dress(body, loadPattern("skirt.yaml"));
+  const DrapeResult d = object.dress(body, proceduralPattern("skirt.yaml"));
   EXPECT_FALSE(d.success);
   EXPECT_NE(d.message.find("image space"), std::string::npos) << d.message;
   EXPECT_FALSE(object.worn());
@@ -122,7 +118,7 @@ TEST(WornGarment, RefusesWhatItCannotStep) {
   WornGarmentParams fewSteps = wornParams();
   fewSteps.max_steps_per_frame = 2;
   WornGarment worn(fewSteps);
-  ASSERT_TRUE(worn.dress(body, loadPattern("skirt.yaml")).success);
+  ASSERT_TRUE(worn.dress(body, proceduralPattern("skirt.yaml")).success);
   const TriMesh before = worn.garment();
   for (double seconds : {0.0, -1.0, std::nan("")}) {
     r = worn.follow(body, seconds);

@@ -5,6 +5,7 @@
 #include "virtual_tryon/core/body/body_check.h"
 #include "virtual_tryon/core/drape/collider.h"
 #include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include <virtual_tryon/BodyReport.h>
 #include <virtual_tryon/DrapeReport.h>
@@ -26,6 +27,11 @@ virtual_tryon::PenetrationReport toMsg(const ResolverReport& report);
 // Field-by-field copy (counts clamped to uint32, the resolver report nested); the core report
 // does not record the collision mode, so it is given: collision_mode = collisionModeName(mode).
 DrapeReport toMsg(const DrapeResult& report, CollisionMode mode);
+
+// One frame of a worn garment (WornGarment::follow) as a drape report: steps as iterations, the
+// cloth's time as the simulation's, strain_max after the steps and strain_max_final after the
+// resolver, whose report is nested; image space. `garment`: the garment as returned.
+DrapeReport toMsg(const WornFrameReport& report, const TriMesh& garment);
 
 // "image" / "object".
 std::string collisionModeName(CollisionMode mode);
