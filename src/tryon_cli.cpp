@@ -123,14 +123,17 @@ std::string usage() {
          "      Exit 0 when every frame converged, 3 otherwise, 2 on bad input.\n"
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
-         "                [--no-interpolate] [--no-top-view] [--no-side-view] [drape options]\n"
+         "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--no-side-view]\n"
+         "                [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
          "      between the two frames' depth maps, responding to the surface's velocity, and Sun\n"
          "      et al.'s resolver corrects what is left inside. --strain-restore: the fraction of a\n"
          "      spring's excess over the super-elastic threshold taken back per step (default " +
-         g(vt::WornGarmentParams().strain_restore) + "). --no-top-view, --no-side-view: without the maps\n"
+         g(vt::WornGarmentParams().strain_restore) + "). --no-skin-velocity: the surface's speed along\n"
+         "      its normal alone (from the change of depth), not the body vertices' velocity.\n"
+         "      --no-top-view, --no-side-view: without the maps\n"
          "      seen from above, from the side (both off: the paper's front and back maps alone).\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
@@ -153,7 +156,7 @@ struct Usage : std::runtime_error {
 
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
-                                      "no-top-view",  "no-side-view", "no-interpolate"};
+                                      "no-top-view",  "no-side-view", "no-interpolate", "no-skin-velocity"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -663,6 +666,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.dt = number(opt, "cloth-dt", 0.0);
   wp.body_velocity = !opt.count("no-body-velocity");
   wp.top_view = !opt.count("no-top-view");
+  wp.skin_velocity = !opt.count("no-skin-velocity");
   wp.side_view = !opt.count("no-side-view");
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
@@ -814,7 +818,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-top-view", "no-side-view", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "no-side-view", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

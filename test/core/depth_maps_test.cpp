@@ -434,3 +434,44 @@ TEST(DepthMaps, TopViewSeesTheHollowAboveAFoot) {
   EXPECT_GT(up.y(), 0.9) << up.transpose();
   EXPECT_LT(depth, 0.003 + 0.002);
 }
+
+// Velocity maps: an affine field v(x) = A x + c given at the vertices is interpolated over each
+// pixel's winning face, which for a flat face is the field itself at the surface point under the
+// pixel centre: front and back, every covered pixel (the ring ones copy a neighbour).
+TEST(DepthMaps, VelocityMapsHoldTheSkinsVelocityAtTheSurface) {
+  const vt::TriMesh sphere = vt::makeSphere(0.3, Eigen::Vector3d(0.1, 1.0, -0.2), 4);
+  Eigen::Matrix3d A;
+  A << 0.0, -0.5, 0.2, 0.5, 0.0, -0.1, -0.2, 0.1, 0.3;
+  const Eigen::Vector3d c(0.3, -0.2, 0.1);
+  vt::MatrixX3d VV(sphere.V.rows(), 3);
+  for (Eigen::Index i = 0; i < sphere.V.rows(); ++i) VV.row(i) = (A * sphere.V.row(i).transpose() + c).transpose();
+  vt::CollisionParams cp;
+  cp.tol = 0.004;
+  const vt::DepthMaps plain(sphere, cp);
+  EXPECT_FALSE(plain.hasVelocity());
+  const vt::DepthMaps dm(sphere, cp, plain.grid(), VV);
+  ASSERT_TRUE(dm.hasVelocity());
+  std::size_t checked = 0;
+  double worst = 0;
+  for (int Y = 1; Y + 1 < dm.height(); ++Y)
+    for (int X = 1; X + 1 < dm.width(); ++X) {
+      const std::size_t i = static_cast<std::size_t>(Y) * dm.width() + X;
+      if (!dm.filled(X, Y) || !plain.filled(X, Y)) continue;
+      // Covered, not ring: all eight neighbours filled too (a ring pixel has an empty neighbour).
+      bool interior = true;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) interior = interior && dm.filled(X + dx, Y + dy);
+      if (!interior) continue;
+      const Eigen::Vector2d xy = dm.pixelCenter(X, Y);
+      const Eigen::Vector3d pf(xy.x(), xy.y(), dm.frontDepth()[i] - cp.tol), pb(xy.x(), xy.y(), dm.backDepth()[i] + cp.tol);
+      worst = std::max(worst, (dm.frontVelocity()[i].cast<double>() - (A * pf + c)).norm());
+      worst = std::max(worst, (dm.backVelocity()[i].cast<double>() - (A * pb + c)).norm());
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_LT(worst, 1e-4) << "over " << checked << " pixels";
+  // The depths and normals are those of the maps without velocity.
+  EXPECT_EQ(dm.frontDepth().size(), plain.frontDepth().size());
+  for (std::size_t i = 0; i < dm.frontDepth().size(); ++i)
+    if (!std::isnan(plain.frontDepth()[i])) ASSERT_EQ(dm.frontDepth()[i], plain.frontDepth()[i]);
+}

@@ -10,24 +10,25 @@
 namespace virtual_tryon {
 
 // A still body's collider (ImageSpaceCollider, ObjectSpaceCollider) as CollisionResponse reads
-// one: its surface does not move (speed 0).
+// one: its surface does not move (velocity 0).
 template <class Still>
 struct StillBody {
   const Still& body;
-  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
-    speed = 0;
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, Eigen::Vector3d& velocity) const {
+    velocity.setZero();
     return body.collide(p, normal, depth);
   }
 };
 
-// eq. 12 on the velocity relative to the body's surface, which moves along its outward normal n
-// at `speed` (m/s, > 0 outward): v - speed n is reflected and rubbed, then speed n is added back.
-// So a surface moving out pushes what touches it (a moving arm pushes the sleeve), and at speed 0
-// this is the paper's response.
-inline Eigen::Vector3d movingCollisionResponse(const Eigen::Vector3d& v, const Eigen::Vector3d& n, double speed,
-                                               double friction, double reflection) {
-  if (speed == 0) return collisionResponse(v, n, friction, reflection);
-  return collisionResponse(v - speed * n, n, friction, reflection) + speed * n;
+// eq. 12 on the velocity relative to the body's surface, which moves at `surface` (m/s; for
+// example speed n when only its speed along the outward normal n is known): v - surface is
+// reflected and rubbed, then surface is added back. So a surface moving out pushes what touches
+// it (a moving arm pushes the sleeve), friction drags the cloth along with the skin under it, and
+// at rest this is the paper's response.
+inline Eigen::Vector3d movingCollisionResponse(const Eigen::Vector3d& v, const Eigen::Vector3d& n,
+                                               const Eigen::Vector3d& surface, double friction, double reflection) {
+  if (surface.isZero(0)) return collisionResponse(v, n, friction, reflection);
+  return collisionResponse(v - surface, n, friction, reflection) + surface;
 }
 
 // Velocity response of every colliding node and quad midpoint; a node that gets several
@@ -51,11 +52,11 @@ class CollisionResponse {
     sum_.setZero(n, 3);
     count_.assign(static_cast<std::size_t>(n), 0);
     colliding_ = 0;
-    Eigen::Vector3d normal;
-    double depth = 0, speed = 0;
+    Eigen::Vector3d normal, surface;
+    double depth = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      if (!collider_.collide(x.row(i).transpose(), normal, depth, speed)) continue;
-      Eigen::Vector3d r = movingCollisionResponse(v.row(i).transpose(), normal, speed, p_.friction, p_.reflection);
+      if (!collider_.collide(x.row(i).transpose(), normal, depth, surface)) continue;
+      Eigen::Vector3d r = movingCollisionResponse(v.row(i).transpose(), normal, surface, p_.friction, p_.reflection);
       // Beyond the paper: a node deeper than the shell also gets back a fraction of its depth per
       // step, so points the velocity response alone leaves inside come out (bounded: at most
       // push_out * depth / dt).
@@ -67,10 +68,10 @@ class CollisionResponse {
     if (quads_)
       for (const auto& q : cloth_.quads()) {
         const Eigen::Vector3d mid = 0.25 * (x.row(q[0]) + x.row(q[1]) + x.row(q[2]) + x.row(q[3])).transpose();
-        if (!collider_.collide(mid, normal, depth, speed)) continue;
+        if (!collider_.collide(mid, normal, depth, surface)) continue;
         const Eigen::Vector3d vm = 0.25 * (v.row(q[0]) + v.row(q[1]) + v.row(q[2]) + v.row(q[3])).transpose();
         const Eigen::RowVector3d r =
-            movingCollisionResponse(vm, normal, speed, p_.friction, p_.reflection).transpose();
+            movingCollisionResponse(vm, normal, surface, p_.friction, p_.reflection).transpose();
         for (int c : q) {
           sum_.row(c) += r;
           ++count_[c];

@@ -36,6 +36,8 @@ struct MapBuffers {
   std::vector<float>& back;
   std::vector<Eigen::Vector3f>& front_n;
   std::vector<Eigen::Vector3f>& back_n;
+  std::vector<Eigen::Vector3f>& front_v;  // empty: no velocity maps
+  std::vector<Eigen::Vector3f>& back_v;
 
   std::size_t W() const { return static_cast<std::size_t>(width); }
   // Index of the neighbour k (kDX, kDY) of pixel i.
@@ -46,6 +48,10 @@ struct MapBuffers {
     front[i] = back[i] = kNaN;
     front_n[i].setZero();
     back_n[i].setZero();
+    if (!front_v.empty()) {
+      front_v[i].setZero();
+      back_v[i].setZero();
+    }
   }
 };
 
@@ -237,12 +243,40 @@ Eigen::Vector3f fieldNormal(const TriMesh& body, const NormalField& nf, int X, i
   return len > 0 ? Eigen::Vector3f((g / len).cast<float>()) : Eigen::Vector3f::Zero();
 }
 
-// Pass 2: normals of the winning faces, tol. Empty pixels stay -inf / +inf for now. Returns the
-// number of covered pixels.
+// Where a map's velocities come from: the vertices' velocities, and the grid's world x, y.
+struct VelocitySource {
+  const MatrixX3d* V = nullptr;  // #V by 3; null: no velocity maps
+  double x0 = 0, y0 = 0, pixel = 0;
+};
+
+// The vertex velocities of `face` interpolated at the centre of pixel (X, Y) (barycentric in x-y,
+// the weights clamped to the face).
+Eigen::Vector3f faceVelocity(const TriMesh& body, int face, int X, int Y, const VelocitySource& vs) {
+  const double px = vs.x0 + (X + 0.5) * vs.pixel, py = vs.y0 + (Y + 0.5) * vs.pixel;
+  const Eigen::Index a = body.F(face, 0), b = body.F(face, 1), c = body.F(face, 2);
+  const double ax = body.V(a, 0), ay = body.V(a, 1), bx = body.V(b, 0), by = body.V(b, 1);
+  const double cx = body.V(c, 0), cy = body.V(c, 1);
+  const double area = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+  if (!(std::abs(area) > 0)) return ((vs.V->row(a) + vs.V->row(b) + vs.V->row(c)) / 3.0).transpose().cast<float>();
+  double wa = ((bx - px) * (cy - py) - (cx - px) * (by - py)) / area;
+  double wb = ((cx - px) * (ay - py) - (ax - px) * (cy - py)) / area;
+  double wc = 1.0 - wa - wb;
+  wa = std::clamp(wa, 0.0, 1.0);
+  wb = std::clamp(wb, 0.0, 1.0);
+  wc = std::clamp(wc, 0.0, 1.0);
+  const double sum = wa + wb + wc;
+  return ((wa * vs.V->row(a) + wb * vs.V->row(b) + wc * vs.V->row(c)) / sum).transpose().cast<float>();
+}
+
+// Pass 2: normals (and velocities) of the winning faces, tol. Empty pixels stay -inf / +inf for
+// now. Returns the number of covered pixels.
 std::size_t fillNormals(const TriMesh& body, const std::vector<NormalField>& fields, double tol,
-                        MapBuffers& maps) {
+                        MapBuffers& maps, const VelocitySource& vs) {
   auto normalOf = [&](int id, int X, int Y) {
     return fieldNormal(body, fields[static_cast<std::size_t>(id)], X, Y);
+  };
+  auto velocityOf = [&](int id, int X, int Y) {
+    return faceVelocity(body, fields[static_cast<std::size_t>(id)].face, X, Y, vs);
   };
   const float ftol = static_cast<float>(tol);
   std::size_t covered = 0;
@@ -251,6 +285,10 @@ std::size_t fillNormals(const TriMesh& body, const std::vector<NormalField>& fie
     for (int X = 0; X < maps.width; ++X, ++i) {
       if (!(maps.front[i] > -kInf)) continue;
       ++covered;
+      if (vs.V) {
+        maps.front_v[i] = velocityOf(getId(maps.front_n[i]), X, Y);
+        maps.back_v[i] = velocityOf(getId(maps.back_n[i]), X, Y);
+      }
       maps.front_n[i] = normalOf(getId(maps.front_n[i]), X, Y);
       maps.back_n[i] = normalOf(getId(maps.back_n[i]), X, Y);
       maps.front[i] += ftol;
@@ -347,6 +385,10 @@ std::size_t fillRing(MapBuffers& maps) {
     maps.back[r.i] = maps.back[jb];
     maps.front_n[r.i] = ringNormal(maps, r.i, r.kf, maps.front_n);
     maps.back_n[r.i] = ringNormal(maps, r.i, r.kb, maps.back_n);
+    if (!maps.front_v.empty()) {
+      maps.front_v[r.i] = maps.front_v[jf];
+      maps.back_v[r.i] = maps.back_v[jb];
+    }
   }
   return ring.size();
 }
@@ -397,7 +439,13 @@ DepthMaps::DepthMaps(const TriMesh& body, const CollisionParams& params, const M
   render(body, params, grid);
 }
 
-void DepthMaps::render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid) {
+DepthMaps::DepthMaps(const TriMesh& body, const CollisionParams& params, const MapGrid& grid,
+                     const MatrixX3d& vertexVelocity) {
+  render(body, params, grid, &vertexVelocity);
+}
+
+void DepthMaps::render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid,
+                       const MatrixX3d* vertexVelocity) {
   const auto t0 = std::chrono::steady_clock::now();
   tol_ = params.tol;
   boundingBox(body, lo_, hi_);
@@ -417,11 +465,16 @@ void DepthMaps::render(const TriMesh& body, const CollisionParams& params, const
   back_.assign(N, kInf);
   front_n_.resize(N);
   back_n_.resize(N);
-  MapBuffers maps{width_, height_, front_, back_, front_n_, back_n_};
+  const bool velocity = vertexVelocity && vertexVelocity->rows() == body.V.rows();
+  front_v_.assign(velocity ? N : 0, Eigen::Vector3f::Zero());
+  back_v_.assign(velocity ? N : 0, Eigen::Vector3f::Zero());
+  MapBuffers maps{width_, height_, front_, back_, front_n_, back_n_, front_v_, back_v_};
+  VelocitySource vs;
+  if (velocity) vs = {vertexVelocity, x0_, y0_, pixel_};
 
   std::vector<NormalField> fields;  // only for rasterized faces
   rasterize(body, x0_, y0_, inv_pixel_, maps, fields);
-  covered_ = fillNormals(body, fields, tol_, maps);
+  covered_ = fillNormals(body, fields, tol_, maps, vs);
   ring_ = fillRing(maps);
 
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -26,11 +26,13 @@ std::string num(double v) {
 constexpr double kMaxSurfaceSpeed = 5.0;
 
 // The body between two frames' maps on one grid, at time s in [0, 1] of the interval (the blend of
-// each pixel's depth and normal; see worn_garment.h), and its speed along the normal. With the other
-// views, a point deeper than the tolerance shell collides only when each of them sees it inside too
-// (the body is inside every view's depth interval, so nothing truly inside is missed); the front
-// view gives the normal, depth and speed (a wall moving sideways, a leg swinging, seen from above
-// is a depth that jumps).
+// each pixel's depth and normal; see worn_garment.h), and the surface's velocity there: from B's
+// velocity maps when it has them (the skin's own motion over the interval, tangential part
+// included), else its speed along the normal from the change of depth. With the other views, a
+// point deeper than the tolerance shell collides only when each of them sees it inside too (the
+// body is inside every view's depth interval, so nothing truly inside is missed); the front view
+// gives the normal, depth and velocity (a wall moving sideways, a leg swinging, seen from above is
+// a depth that jumps).
 class MovingMaps {
  public:
   MovingMaps(const WornGarment::FrameMaps& a, const WornGarment::FrameMaps& b, double seconds, bool interpolate,
@@ -41,27 +43,33 @@ class MovingMaps {
   }
   void setTime(double s) { s_ = s; }
 
-  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, double& speed) const {
-    if (!view(a_, b_, p, normal, depth, speed)) return false;
+  bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, Eigen::Vector3d& surface) const {
+    if (!view(a_, b_, p, normal, depth, &surface)) return false;
     // Within the tolerance shell the front view is right (the shell is along z: at a steep wall a
     // point in it may lie far from the wall along y, and another view would let it through).
     if (depth <= b_.tol()) return true;
     Eigen::Vector3d nq;
-    double dq, sq;
+    double dq;
     for (const Other& o : others_)
-      if (!view(*o.a, *o.b, viewPoint(o.view, p), nq, dq, sq)) return false;  // outside, seen from there
+      if (!view(*o.a, *o.b, viewPoint(o.view, p), nq, dq, nullptr)) return false;  // outside, seen from there
     return true;
   }
 
  private:
-  // One view: the maps a and b of the interval's ends on one grid, the point in the view's frame.
+  // One view: the maps a and b of the interval's ends on one grid, the point in the view's frame;
+  // `surface` (may be null) the surface's velocity.
   bool view(const DepthMaps& a, const DepthMaps& b, const Eigen::Vector3d& p, Eigen::Vector3d& normal,
-            double& depth, double& speed) const {
+            double& depth, Eigen::Vector3d* surface) const {
     std::size_t i;
     if (!b.pixelIndex(p.x(), p.y(), i)) return false;
     const float fb = b.frontDepth()[i], bb = b.backDepth()[i];
     const float fa = a.frontDepth()[i], ba = a.backDepth()[i];
-    if (!interpolate_ || std::isnan(fa)) return still(b, i, p.z(), normal, depth, speed);  // arriving
+    if (!interpolate_ || std::isnan(fa)) {  // arriving
+      bool front = true;
+      if (!still(b, i, p.z(), normal, depth, front)) return false;
+      if (surface) *surface = mapVelocity(b, i, front);
+      return true;
+    }
     if (std::isnan(fb)) return false;  // the body has left this pixel by the end of the interval
     const double s = s_;
     const double f = fa + s * (fb - fa), bk = ba + s * (bb - ba), z = p.z();
@@ -73,20 +81,35 @@ class MovingMaps {
     const double len = n.norm();
     normal = len > 1e-9 ? Eigen::Vector3d(n / len) : nb.cast<double>();
     depth = front ? f - z : z - bk;
-    // The surface z = depth(x, y, t) moves along its normal at n_z dz/dt.
-    const double dz = front ? fb - fa : bb - ba;
-    speed = velocity_ ? std::clamp(normal.z() * dz * inv_t_, -kMaxSurfaceSpeed, kMaxSurfaceSpeed) : 0.0;
+    if (!surface) return true;
+    if (b.hasVelocity()) {
+      *surface = mapVelocity(b, i, front);
+    } else {
+      // The surface z = depth(x, y, t) moves along its normal at n_z dz/dt.
+      const double dz = front ? fb - fa : bb - ba;
+      const double speed = velocity_ ? std::clamp(normal.z() * dz * inv_t_, -kMaxSurfaceSpeed, kMaxSurfaceSpeed) : 0.0;
+      *surface = speed * normal;
+    }
     return true;
   }
 
+  // Pixel i's surface velocity in b's velocity maps (front or back), at most kMaxSurfaceSpeed; zero
+  // without them or with body_velocity off.
+  Eigen::Vector3d mapVelocity(const DepthMaps& b, std::size_t i, bool front) const {
+    if (!velocity_ || !b.hasVelocity()) return Eigen::Vector3d::Zero();
+    Eigen::Vector3d u = (front ? b.frontVelocity()[i] : b.backVelocity()[i]).cast<double>();
+    const double speed = u.norm();
+    if (speed > kMaxSurfaceSpeed) u *= kMaxSurfaceSpeed / speed;
+    return u;
+  }
+
   static bool still(const DepthMaps& m, std::size_t i, double z, Eigen::Vector3d& normal, double& depth,
-                    double& speed) {
+                    bool& front) {
     const double f = m.frontDepth()[i], b = m.backDepth()[i];
     if (!(z <= f && z >= b)) return false;
-    const bool front = f - z <= z - b;
+    front = f - z <= z - b;
     normal = (front ? m.frontNormal()[i] : m.backNormal()[i]).cast<double>();
     depth = front ? f - z : z - b;
-    speed = 0;
     return true;
   }
 
@@ -125,6 +148,7 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   garment_ = TriMesh();
   strain_.clear();
   maps_ = FrameMaps();
+  body_V_.resize(0, 3);
   if (params_.drape.mode != CollisionMode::ImageSpace) {
     DrapeResult r;
     r.message = "a worn garment steps in image space: drape mode must be image space";
@@ -151,7 +175,8 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
     viewBox(kOtherViews[k], body, lo, hi);
     other_grid_[k] = gridAround(lo, hi);
   }
-  maps_ = renderMaps(body);
+  maps_ = renderMaps(body, nullptr);
+  body_V_ = body.mesh().V;
   // Each frame's resolve keeps the drape's final-resolve settings: edges past the polish strain
   // against the cloth as stepped, and every structural spring within its rest bound.
   frame_resolver_ = params_.drape.resolver;
@@ -181,9 +206,10 @@ void WornGarment::viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eige
   }
 }
 
-WornGarment::FrameMaps WornGarment::renderMaps(const Body& body) const {
+WornGarment::FrameMaps WornGarment::renderMaps(const Body& body, const MatrixX3d* velocity) const {
   FrameMaps m;
-  m.front = std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+  m.front = velocity ? std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_, *velocity)
+                     : std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
   for (std::size_t k = 0; k < kOtherViews.size(); ++k)
     if (viewOn(k))
       m.other[k] = std::make_shared<const DepthMaps>(viewMesh(kOtherViews[k], body.mesh()), params_.drape.collision,
@@ -292,7 +318,11 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
       rep.grid_rebuilt = true;
     }
   }
-  FrameMaps to = renderMaps(next);
+  // The skin's velocity over the interval, for frames of one body (same vertices).
+  MatrixX3d velocity;
+  const bool skin = params_.body_velocity && params_.skin_velocity && body_V_.rows() == next.mesh().V.rows();
+  if (skin) velocity = (next.mesh().V - body_V_) / seconds;
+  FrameMaps to = renderMaps(next, skin ? &velocity : nullptr);
   rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid());
   for (std::size_t k = 0; k < kOtherViews.size(); ++k)
     if (to.other[k]) rep.interpolated = rep.interpolated && sameGrid(maps_.other[k]->grid(), to.other[k]->grid());
@@ -304,6 +334,7 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   }
   rep.seconds_cloth = since(tCloth);
   maps_ = std::move(to);
+  body_V_ = next.mesh().V;
   rep.success = true;
   resolveFrame(next, rep);
   const double maxStrain = params_.drape.max_strain;

@@ -113,6 +113,11 @@ class DepthMaps {
   // hold the body (MapGrid::holds): what lies outside is not rendered. map_size of params is not
   // read.
   DepthMaps(const TriMesh& body, const CollisionParams& params, const MapGrid& grid);
+  // The same with velocity maps: `vertexVelocity` (#V by 3, m/s, e.g. a moving body's vertices'
+  // change over a frame / its duration) interpolated barycentrically over each pixel's winning
+  // face at the pixel centre, front and back (a ring pixel takes its neighbour's), the material
+  // velocity of the surface there.
+  DepthMaps(const TriMesh& body, const CollisionParams& params, const MapGrid& grid, const MatrixX3d& vertexVelocity);
 
   // The grid these maps are rendered on.
   MapGrid grid() const {
@@ -192,9 +197,14 @@ class DepthMaps {
   const std::vector<float>& backDepth() const { return back_; }
   const std::vector<Eigen::Vector3f>& frontNormal() const { return front_n_; }
   const std::vector<Eigen::Vector3f>& backNormal() const { return back_n_; }
+  // Velocity maps (the constructor with vertex velocities; else empty), (0, 0, 0) where empty.
+  bool hasVelocity() const { return !front_v_.empty(); }
+  const std::vector<Eigen::Vector3f>& frontVelocity() const { return front_v_; }
+  const std::vector<Eigen::Vector3f>& backVelocity() const { return back_v_; }
 
  private:
-  void render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid);
+  void render(const TriMesh& body, const CollisionParams& params, const MapGrid& grid,
+              const MatrixX3d* vertexVelocity = nullptr);
 
   int width_ = 0, height_ = 0, map_size_ = 0;
   double pixel_ = 0, inv_pixel_ = 0, tol_ = 0, build_seconds_ = 0;
@@ -203,6 +213,7 @@ class DepthMaps {
   Eigen::Vector3d lo_, hi_;
   std::vector<float> front_, back_;
   std::vector<Eigen::Vector3f> front_n_, back_n_;
+  std::vector<Eigen::Vector3f> front_v_, back_v_;
 };
 
 // The paper's response (eq. 12). With v_n = (v . n) n and v_t = v - v_n:

@@ -27,6 +27,11 @@ struct WornGarmentParams {
   DrapeParams drape;
   double dt = 0;                 // s: the cloth's step between frames; 0: the drape's
   bool body_velocity = true;     // respond to the velocity relative to the moving surface
+  // With body_velocity, for frames of one body (same vertex count): the skin's own velocity
+  // (each body vertex's move over the interval / its length, rendered into velocity maps), so
+  // that friction carries the cloth along with the skin under it, tangentially too. Off: only the
+  // surface's speed along its normal, from the change of depth (what image space alone gives).
+  bool skin_velocity = true;
   bool interpolate = true;       // blend the two frames' maps in time; false: B's maps throughout
   bool resolve = true;           // Sun et al.'s resolver after each frame
   // The cloth's strain_restore (ClothParams, Provot's correction) while worn: a body that pushes
@@ -110,7 +115,7 @@ class WornGarment {
   MapGrid gridAround(const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax) const;
   bool viewOn(std::size_t k) const;  // kOtherViews[k] switched on
   static void viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
-  FrameMaps renderMaps(const Body& body) const;
+  FrameMaps renderMaps(const Body& body, const MatrixX3d* velocity) const;  // velocity: #V by 3 or null
   bool stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt, WornFrameReport& rep);
   bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
   void resolveFrame(const Body& body, WornFrameReport& rep);
@@ -123,6 +128,7 @@ class WornGarment {
   std::array<MapGrid, 2> other_grid_;
   double pixel_ = 0;  // m: the grid's pixel side, kept when a new grid is made
   FrameMaps maps_;  // of the frame the cloth is on, on grid_ (and other_grid_)
+  MatrixX3d body_V_;  // the body's vertices on that frame
   ResolverParams frame_resolver_;
 };
 
