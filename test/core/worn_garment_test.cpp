@@ -83,7 +83,7 @@ TEST(WornGarment, TheShirtFollowsTheSwayingTorsoCleanEveryFrame) {
     EXPECT_LT(r.max_speed, 5.0) << "frame " << f;  // no blow-up: the torso moves at well under 1 m/s
     const TriMesh& g = worn.garment();
     ASSERT_TRUE(g.V.allFinite());
-    const ReferenceCounts c = referenceCounts(body->mesh(), g);
+    const ReferenceCounts c = ReferenceReferee(body->mesh()).count(g);  // = referenceCounts, with a tree
     EXPECT_EQ(c.garment_edge_crossings, 0u) << "frame " << f;
     EXPECT_EQ(c.body_edge_crossings, 0u) << "frame " << f;
     EXPECT_EQ(c.vertices_inside, 0u) << "frame " << f;
