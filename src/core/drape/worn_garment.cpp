@@ -323,12 +323,17 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   const bool skin = params_.body_velocity && params_.skin_velocity && body_V_.rows() == next.mesh().V.rows();
   if (skin) velocity = (next.mesh().V - body_V_) / seconds;
   FrameMaps to = renderMaps(next, skin ? &velocity : nullptr);
+  // Each view is interpolated on its own grid; one whose grid was rebuilt (the top view's x-z box
+  // once a walk has carried the body past its margin) uses the new frame's maps throughout.
   rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid());
+  FrameMaps from = to;
+  if (rep.interpolated) from.front = maps_.front;
   for (std::size_t k = 0; k < kOtherViews.size(); ++k)
-    if (to.other[k]) rep.interpolated = rep.interpolated && sameGrid(maps_.other[k]->grid(), to.other[k]->grid());
+    if (params_.interpolate && to.other[k] && maps_.other[k] && sameGrid(maps_.other[k]->grid(), to.other[k]->grid()))
+      from.other[k] = maps_.other[k];
   rep.seconds_maps = since(tMaps);
   const auto tCloth = Clock::now();
-  if (!stepFrame(rep.interpolated ? maps_ : to, to, seconds, rep)) {
+  if (!stepFrame(from, to, seconds, rep)) {
     rep.seconds_total = since(t0);
     return rep;
   }
