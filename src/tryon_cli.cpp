@@ -123,7 +123,7 @@ std::string usage() {
          "      Exit 0 when every frame converged, 3 otherwise, 2 on bad input.\n"
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
-         "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--no-side-view]\n"
+         "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
          "                [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
@@ -133,8 +133,8 @@ std::string usage() {
          "      spring's excess over the super-elastic threshold taken back per step (default " +
          g(vt::WornGarmentParams().strain_restore) + "). --no-skin-velocity: the surface's speed along\n"
          "      its normal alone (from the change of depth), not the body vertices' velocity.\n"
-         "      --no-top-view, --no-side-view: without the maps\n"
-         "      seen from above, from the side (both off: the paper's front and back maps alone).\n"
+         "      --no-top-view: without the maps seen from above (the paper's front and back maps\n"
+         "      alone); --side-view: with maps seen from the side too.\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
          "      frame 0) and OUT.pc2 (every frame). Exit 0 when every frame converged, 3 when one\n"
@@ -156,7 +156,7 @@ struct Usage : std::runtime_error {
 
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
-                                      "no-top-view",  "no-side-view", "no-interpolate", "no-skin-velocity"};
+                                      "no-top-view", "side-view", "no-interpolate", "no-skin-velocity"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -667,7 +667,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.body_velocity = !opt.count("no-body-velocity");
   wp.top_view = !opt.count("no-top-view");
   wp.skin_velocity = !opt.count("no-skin-velocity");
-  wp.side_view = !opt.count("no-side-view");
+  wp.side_view = opt.count("side-view") > 0;
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
   const bool check = opt.count("check") > 0;
@@ -818,7 +818,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "no-side-view", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

@@ -59,8 +59,9 @@ struct WornGarmentParams {
   // front view alone cannot see a hollow along z: a trouser hem over a raised foot lies between
   // the heel's back and the toes' front, and the armhole between an arm swung back and the torso;
   // it pushes them out to the far surface, and the cloth is caught.
-  // Measured on the MakeHuman walk's dress: the side view costs about as much again as the front's
-  // maps and left the largest strain where it was (frames 0-39), so it is off by default.
+  // Measured on the MakeHuman walk: the side view costs about as much again as the front's maps
+  // and left the largest strain where it was on the dress (frames 0-39) and the trousers (0-21),
+  // so it is off by default.
   bool top_view = true;
   bool side_view = false;
 };
