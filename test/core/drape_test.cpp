@@ -51,7 +51,7 @@ TEST(Drape, SkirtOnTheProceduralBodyConvergesWithZeroCrossings) {
   EXPECT_LT(garment.V.col(1).maxCoeff(), lm.waist_y + 0.05);
   EXPECT_GT(garment.V.col(1).minCoeff(), lm.knee_y - 0.1);
   EXPECT_LT(rep.strain_mean, 0.1);
-  const ReferenceCounts c = referenceCounts(body.mesh(), garment);
+  const ReferenceCounts c = ReferenceReferee(body.mesh()).count(garment);  // the referee's predicates, on its tree
   EXPECT_EQ(c.garment_edge_crossings, 0u);
   EXPECT_EQ(c.body_edge_crossings, 0u);
   EXPECT_EQ(c.vertices_inside, 0u);

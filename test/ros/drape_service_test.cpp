@@ -7,6 +7,7 @@
 #include "virtual_tryon/core/drape/pattern.h"
 #include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/core/scenes/procedural_body.h"
+#include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
 #include "virtual_tryon/ros/conversions.h"
 #include <virtual_tryon/Drape.h>
@@ -204,7 +205,7 @@ TEST(DrapeService, DrapesAGarmentCodeSpecificationOnTheProceduralBody) {
   EXPECT_EQ(res.report.seams_open, 0u) << res.report.message;
   EXPECT_EQ(res.report.boundary_loops, res.report.openings);
   const vt::TriMesh g = returnedGarment(res);
-  const vt::ReferenceCounts ref = vt::referenceCounts(body, g);
+  const vt::ReferenceCounts ref = vt::ReferenceReferee(body).count(g);  // the referee's predicates, on its tree
   EXPECT_EQ(ref.garment_edge_crossings, 0u);
   EXPECT_EQ(ref.body_edge_crossings, 0u);
   EXPECT_EQ(ref.vertices_inside, 0u);
