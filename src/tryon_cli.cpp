@@ -124,7 +124,7 @@ std::string usage() {
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
          "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
-         "                [drape options]\n"
+         "                [--no-resolve-relaxed] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
@@ -134,7 +134,9 @@ std::string usage() {
          g(vt::WornGarmentParams().strain_restore) + "). --no-skin-velocity: the surface's speed along\n"
          "      its normal alone (from the change of depth), not the body vertices' velocity.\n"
          "      --no-top-view: without the maps seen from above (the paper's front and back maps\n"
-         "      alone); --side-view: with maps seen from the side too.\n"
+         "      alone); --side-view: with maps seen from the side too. A frame whose corrected cloth\n"
+         "      is strained past max_strain has its springs relaxed and is resolved again, and that\n"
+         "      is kept when cleaner and less strained; --no-resolve-relaxed: the first correction.\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
          "      frame 0) and OUT.pc2 (every frame). Exit 0 when every frame converged, 3 when one\n"
@@ -156,7 +158,8 @@ struct Usage : std::runtime_error {
 
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
-                                      "no-top-view", "side-view", "no-interpolate", "no-skin-velocity"};
+                                      "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
+                                      "no-resolve-relaxed"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -632,6 +635,7 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
       .add("strain_max", r.strain_max)
       .add("strain_stepped", r.strain_stepped)
       .add("relax_passes", r.relax_passes)
+      .add("resolved_relaxed", r.resolved_relaxed)
       .add("max_speed_m_s", r.max_speed);
   if (r.resolver_run)
     line.add("crossings_before", r.resolver.garment_edge_crossings_before + r.resolver.body_edge_crossings_before)
@@ -667,6 +671,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.body_velocity = !opt.count("no-body-velocity");
   wp.top_view = !opt.count("no-top-view");
   wp.skin_velocity = !opt.count("no-skin-velocity");
+  wp.resolve_relaxed = !opt.count("no-resolve-relaxed");
   wp.side_view = opt.count("side-view") > 0;
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
@@ -818,7 +823,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

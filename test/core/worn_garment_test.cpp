@@ -130,3 +130,42 @@ TEST(WornGarment, RefusesWhatItCannotStep) {
   EXPECT_NE(r.message.find("max_steps_per_frame"), std::string::npos) << r.message;
   EXPECT_EQ(worn.garment().V, before.V);  // nothing moved
 }
+
+// A jerk: the torso, swaying twice as far as the default clip, jumps from its first frame to its
+// last (a 14 degree bend) in one 30 Hz interval. The
+// correction of that frame leaves the shirt strained past max_strain; relaxed and resolved again,
+// the shirt that is kept is clean by the referee and less strained than the first correction left
+// it (which --no-resolve-relaxed keeps).
+TEST(WornGarment, ASpikedFrameIsRelaxedResolvedAgainAndKeptWhenLessStrained) {
+  ProceduralAnimationParams ap;
+  ap.frames = 10;
+  ap.amplitude = 0.3;  // rad: about 17 degrees, twice the default clip's bend
+  const ProceduralAnimation anim = makeProceduralAnimation(ap);
+  const Body first(TriMesh{anim.body_frames[0], anim.body.F});
+  const Body last(TriMesh{anim.body_frames.back(), anim.body.F});
+  WornGarmentParams off = wornParams();
+  off.resolve_relaxed = false;
+  WornGarment plain(off), relaxed(wornParams());
+  ASSERT_TRUE(plain.dress(first, proceduralPattern("sleeveless_shirt.yaml")).success);
+  ASSERT_TRUE(relaxed.dress(first, proceduralPattern("sleeveless_shirt.yaml")).success);
+  const WornFrameReport a = plain.follow(last, 1.0 / 30);
+  const WornFrameReport b = relaxed.follow(last, 1.0 / 30);
+  ASSERT_TRUE(a.success) << a.message;
+  ASSERT_TRUE(b.success) << b.message;
+  std::printf("jerk: first correction strain %.3f (%d relax passes); relaxed and resolved again %.3f (%s)\n",
+              a.strain_max, a.relax_passes, b.strain_max, b.resolved_relaxed ? "kept" : "not kept");
+  // The premise: the first correction spiked the shirt.
+  ASSERT_GT(a.strain_max, wornParams().drape.max_strain) << a.message;
+  EXPECT_FALSE(a.resolved_relaxed);
+  ASSERT_TRUE(b.resolved_relaxed) << b.message;
+  EXPECT_LT(b.strain_max, a.strain_max);
+  EXPECT_TRUE(b.relaxed_resolver.converged) << b.relaxed_resolver.reason;
+  EXPECT_NE(b.message.find("resolved again"), std::string::npos) << b.message;
+  const ReferenceReferee referee(last.mesh());
+  for (const WornGarment* w : {&plain, &relaxed}) {
+    const ReferenceCounts c = referee.count(w->garment());
+    EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
+  }
+  const double vertexStrain = *std::max_element(relaxed.vertexStrain().begin(), relaxed.vertexStrain().end());
+  EXPECT_NEAR(vertexStrain, b.strain_max, 1e-12);
+}

@@ -288,8 +288,31 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   rep.strain_max = 0;
   for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
   const double spike = params_.drape.max_strain > 0 ? params_.drape.max_strain : cloth.params().stretch_threshold;
-  if (params_.relax_passes > 0 && rep.strain_max > spike)
+  if (params_.relax_passes > 0 && rep.strain_max > spike) {
     rep.relax_passes = cloth.relaxStretchedSprings(params_.relax_passes);
+    if (params_.resolve && params_.resolve_relaxed) resolveRelaxed(body, rep);
+  }
+}
+
+// The relaxed cloth (its spikes pulled back) resolved again: kept, and published, when that
+// resolve converges and leaves it less strained than the first one did.
+void WornGarment::resolveRelaxed(const Body& body, WornFrameReport& rep) {
+  ClothState& cloth = *cloth_;
+  TriMesh relaxed = cloth.mesh();
+  const auto t0 = Clock::now();
+  const ResolverReport second = resolvePenetrations(body, relaxed, frame_resolver_);
+  rep.seconds_resolve += since(t0);
+  if (!second.converged) return;
+  std::vector<double> strain = cloth.nodeStrain(relaxed.V);
+  double largest = 0;
+  for (double s : strain) largest = std::max(largest, s);
+  if (!(largest < rep.strain_max)) return;
+  rep.resolved_relaxed = true;
+  rep.strain_max = largest;
+  rep.relaxed_resolver = second;
+  strain_ = std::move(strain);
+  garment_ = std::move(relaxed);
+  cloth.positions() = garment_.V;
 }
 
 WornFrameReport WornGarment::follow(const Body& next, double seconds) {
@@ -344,13 +367,17 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   resolveFrame(next, rep);
   const double maxStrain = params_.drape.max_strain;
   const bool withinStrain = !(maxStrain > 0) || rep.strain_max <= maxStrain;
-  rep.converged = (!rep.resolver_run || rep.resolver.converged) && withinStrain;
+  rep.converged = (!rep.resolver_run || rep.resolver.converged || rep.resolved_relaxed) && withinStrain;
   std::ostringstream msg;
   msg << rep.steps << " steps of " << num(rep.dt) << " s";
   if (rep.step_halvings > 0) msg << " (the step halved " << rep.step_halvings << " times after a blow-up)";
   if (rep.relax_passes > 0) msg << "; the cloth's spikes relaxed in " << rep.relax_passes << " passes";
   if (!rep.interpolated) msg << " (maps not interpolated" << (rep.grid_rebuilt ? ": new grid)" : ")");
-  if (rep.resolver_run && !rep.resolver.converged) msg << "; not converged: resolver: " << rep.resolver.reason;
+  if (rep.resolved_relaxed)
+    msg << "; the relaxed cloth resolved again (" << rep.relaxed_resolver.garment_edge_crossings_before +
+                                                         rep.relaxed_resolver.body_edge_crossings_before
+        << " crossings) and kept";
+  if (rep.resolver_run && !rep.resolver.converged && !rep.resolved_relaxed) msg << "; not converged: resolver: " << rep.resolver.reason;
   if (!withinStrain)
     msg << "; not converged: a spring is stretched by " << num(rep.strain_max) << ", above max_strain " << num(maxStrain);
   rep.message = msg.str();

@@ -49,6 +49,9 @@ struct WornGarmentParams {
   // correction (a foot through a trouser hem: springs 6x long) would otherwise snap back at over
   // 100 m/s in the next frame's steps. The returned garment is the resolver's. 0: off.
   int relax_passes = 10;
+  // After that relaxation, the relaxed cloth is resolved again; the result is kept (and published)
+  // when the resolver converges and leaves it less strained than the first correction did.
+  bool resolve_relaxed = true;
   // A frame whose steps blow up is stepped again from where it began with half the step, at most
   // this many times; then the frame fails (nothing moved).
   int step_halvings = 2;
@@ -74,6 +77,7 @@ struct WornFrameReport {
   double dt = 0;           // s
   int step_halvings = 0;   // times the frame's step was halved after a blow-up
   int relax_passes = 0;    // passes that relaxed the cloth's spikes after the resolver
+  bool resolved_relaxed = false;  // the relaxed cloth was resolved again and kept (less strained)
   bool interpolated = false, grid_rebuilt = false;
   std::size_t colliding_nodes = 0;  // the largest count of colliding nodes over the steps
   double strain_max = 0;   // |l / l0 - 1| over structural springs of the returned garment
@@ -81,6 +85,7 @@ struct WornFrameReport {
   double max_speed = 0;    // m/s, at the end of the steps
   bool resolver_run = false;
   ResolverReport resolver;
+  ResolverReport relaxed_resolver;  // the second resolve, of the relaxed cloth (resolved_relaxed)
   double seconds_maps = 0, seconds_cloth = 0, seconds_resolve = 0, seconds_total = 0;
 };
 
@@ -120,6 +125,7 @@ class WornGarment {
   bool stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt, WornFrameReport& rep);
   bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
   void resolveFrame(const Body& body, WornFrameReport& rep);
+  void resolveRelaxed(const Body& body, WornFrameReport& rep);
 
   WornGarmentParams params_;
   std::optional<ClothState> cloth_;
