@@ -124,7 +124,7 @@ std::string usage() {
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
          "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
-         "                [--no-resolve-relaxed] [drape options]\n"
+         "                [--relax-compression C] [--no-resolve-relaxed] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
@@ -135,8 +135,10 @@ std::string usage() {
          "      its normal alone (from the change of depth), not the body vertices' velocity.\n"
          "      --no-top-view: without the maps seen from above (the paper's front and back maps\n"
          "      alone); --side-view: with maps seen from the side too. A frame whose corrected cloth\n"
-         "      is strained past max_strain has its springs relaxed and is resolved again, and that\n"
-         "      is kept when cleaner and less strained; --no-resolve-relaxed: the first correction.\n"
+         "      is strained past max_strain has its springs relaxed (stretched ones back to 1 +\n"
+         "      stretch threshold, squeezed ones out to 1 - C, default " + g(vt::WornGarmentParams().relax_compression) + ", 0: stretched alone) and\n"
+         "      is resolved again, and that is kept when it converges and is less strained;\n"
+         "      --no-resolve-relaxed: the first correction.\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
          "      frame 0) and OUT.pc2 (every frame). Exit 0 when every frame converged, 3 when one\n"
@@ -675,6 +677,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.side_view = opt.count("side-view") > 0;
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
+  wp.relax_compression = number(opt, "relax-compression", wp.relax_compression);
   const bool check = opt.count("check") > 0;
 
   auto body = std::make_unique<vt::Body>(vt::TriMesh{bodyCache.samples[0], rest.mesh.F});
@@ -823,7 +826,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

@@ -448,3 +448,37 @@ TEST(Cloth, StrainRestoreContractsOverLongSpringsTheFixAloneHolds) {
   for (int i = 0; i < 50; ++i) ASSERT_TRUE(sewing.step(1e-3, true));
   EXPECT_NEAR(maxLength(sewing), 1.3, 1e-9);
 }
+
+// The relaxation after a worn frame's correction: stretched structural springs back to (1 +
+// stretch_threshold) rest, and with a compression bound squeezed ones out to (1 - bound) rest;
+// without it (as after a weld) squeezed springs stay as they are.
+TEST(Cloth, RelaxationBringsStretchedAndSqueezedSpringsBackToTheirBounds) {
+  auto extremes = [](const ClothState& c, double& shortest, double& longest) {
+    shortest = 1e9;
+    longest = 0;
+    for (const Spring& s : c.springs())
+      if (s.type == SpringType::Structural) {
+        const double r = (c.positions().row(s.b) - c.positions().row(s.a)).norm() / s.rest;
+        shortest = std::min(shortest, r);
+        longest = std::max(longest, r);
+      }
+  };
+  ClothMesh mesh = gridCloth(6, 0.04);
+  mesh.X.col(0) *= 1.3;  // structural x springs 30% long
+  mesh.X.col(2) *= 0.7;  // structural z springs 30% short
+  ClothParams p;
+  p.gravity.setZero();
+  double shortest = 0, longest = 0;
+  ClothState stretchedOnly(mesh, p);
+  EXPECT_GT(stretchedOnly.relaxStrainedSprings(200), 0);
+  extremes(stretchedOnly, shortest, longest);
+  EXPECT_LT(longest, 1.0 + p.stretch_threshold + 1e-3);
+  EXPECT_NEAR(shortest, 0.7, 1e-9);  // squeezed springs left alone
+  ClothState both(mesh, p);
+  EXPECT_GT(both.relaxStrainedSprings(200, 0.1), 0);
+  extremes(both, shortest, longest);
+  EXPECT_LT(longest, 1.0 + p.stretch_threshold + 1e-3);
+  EXPECT_GT(shortest, 0.9 - 1e-3);
+  ClothState none(gridCloth(6, 0.04), p);  // at rest: nothing to move
+  EXPECT_EQ(none.relaxStrainedSprings(10, 0.1), 0);
+}

@@ -328,21 +328,23 @@ int ClothState::weldClosedSeams(double tolerance) {
   std::vector<int> rep(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) rep[i] = find(i);
   rebuildAfterWeld(rep);
-  relaxStretchedSprings(params_.weld_relax_passes);
+  relaxStrainedSprings(params_.weld_relax_passes);
   countOpenSeams();
   return count;
 }
 
-int ClothState::relaxStretchedSprings(int passes) {
+int ClothState::relaxStrainedSprings(int passes, double compressed) {
   const double limit = 1.0 + params_.stretch_threshold;
+  const double floor = compressed > 0 ? 1.0 - compressed : 0.0;
   int done = 0;
   for (int pass = 0; pass < passes; ++pass) {
     bool moved = false;
     for (const Spring& sp : springs_) {
       if (sp.type != SpringType::Structural) continue;
       const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
-      const double len = d.norm(), bound = limit * sp.rest;
-      if (!(len > bound) || !(len > 0)) continue;
+      const double len = d.norm();
+      const double bound = len > limit * sp.rest ? limit * sp.rest : (len < floor * sp.rest ? floor * sp.rest : len);
+      if (bound == len || !(len > 0)) continue;
       const double ia = 1.0 / m_[sp.a], ib = 1.0 / m_[sp.b];
       const Eigen::RowVector3d corr = ((len - bound) / (len * (ia + ib))) * d;
       x_.row(sp.a) += ia * corr;

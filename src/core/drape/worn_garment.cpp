@@ -156,11 +156,12 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   }
   if (!(params_.grid_margin >= 0 && params_.grid_margin <= 10) || !(params_.dt >= 0) || !std::isfinite(params_.dt) ||
       params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1) ||
-      params_.relax_passes < 0 || params_.relax_passes > 1000 || params_.step_halvings < 0 ||
+      params_.relax_passes < 0 || params_.relax_passes > 1000 ||
+      !(params_.relax_compression >= 0 && params_.relax_compression < 1) || params_.step_halvings < 0 ||
       params_.step_halvings > 8) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
-                "strain_restore 0 .. 1, relax_passes 0 .. 1000, step_halvings 0 .. 8)";
+                "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8)";
     return r;
   }
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
@@ -289,7 +290,7 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
   const double spike = params_.drape.max_strain > 0 ? params_.drape.max_strain : cloth.params().stretch_threshold;
   if (params_.relax_passes > 0 && rep.strain_max > spike) {
-    rep.relax_passes = cloth.relaxStretchedSprings(params_.relax_passes);
+    rep.relax_passes = cloth.relaxStrainedSprings(params_.relax_passes, params_.relax_compression);
     if (params_.resolve && params_.resolve_relaxed) resolveRelaxed(body, rep);
   }
 }

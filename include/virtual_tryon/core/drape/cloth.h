@@ -128,9 +128,11 @@ class ClothState {
 
   // Gauss-Seidel passes that move the ends of every structural spring longer than
   // (1 + stretch_threshold) rest back to that length (positions, each end by its inverse mass),
-  // at most `passes`, fewer once none is over. Returns the passes that moved something. Used after
-  // a weld (weld_relax_passes) and on a worn garment after the resolver's correction.
-  int relaxStretchedSprings(int passes);
+  // and, with `compressed` > 0, of every one shorter than (1 - compressed) rest out to that, at
+  // most `passes`, fewer once none is over. Returns the passes that moved something. Used after a
+  // weld (weld_relax_passes; stretched springs alone) and on a worn garment after the resolver's
+  // correction.
+  int relaxStrainedSprings(int passes, double compressed = 0);
 
   // Applies the velocity fix alone (exposed for tests).
   // `restore` (1/s): each over-long spring's ends also approach each other at restore x its excess

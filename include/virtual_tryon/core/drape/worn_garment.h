@@ -43,14 +43,19 @@ struct WornGarmentParams {
   // one interval is not interpolated (WornFrameReport::grid_rebuilt).
   double grid_margin = 0.25;
   // After the resolver's correction the cloth goes on from the corrected garment, less its spikes:
-  // when a spring is stretched beyond the drape's max_strain, up to this many passes move the ends
-  // of each structural spring longer than (1 + stretch_threshold) rest back to it
-  // (ClothState::relaxStretchedSprings). A spike of the
-  // correction (a foot through a trouser hem: springs 6x long) would otherwise snap back at over
-  // 100 m/s in the next frame's steps. The returned garment is the resolver's. 0: off.
+  // when a spring is strained beyond the drape's max_strain, up to this many passes move the ends
+  // of each structural spring longer than (1 + stretch_threshold) rest, or shorter than
+  // (1 - relax_compression) rest, back to that length (ClothState::relaxStrainedSprings). A spike
+  // of the correction (a foot through a trouser hem: springs 6x long) would otherwise snap back at
+  // over 100 m/s in the next frame's steps. 0: off.
   int relax_passes = 10;
+  // The correction also squeezes springs (a vertex pushed out towards its neighbour): on the walk's
+  // sleeveless shirt a spring 24% short after the steps had left it within 6%. 0: stretched
+  // springs alone.
+  double relax_compression = 0.1;
   // After that relaxation, the relaxed cloth is resolved again; the result is kept (and published)
-  // when the resolver converges and leaves it less strained than the first correction did.
+  // when the resolver converges and leaves it less strained than the first correction did. Off:
+  // the returned garment is the first correction, the relaxed cloth only the next frame's start.
   bool resolve_relaxed = true;
   // A frame whose steps blow up is stepped again from where it began with half the step, at most
   // this many times; then the frame fails (nothing moved).
