@@ -132,10 +132,9 @@ TEST(WornGarment, RefusesWhatItCannotStep) {
 }
 
 // A jerk: the torso, swaying twice as far as the default clip, jumps from its first frame to its
-// last (a 14 degree bend) in one 30 Hz interval. The
-// correction of that frame leaves the shirt strained past max_strain; relaxed and resolved again,
-// the shirt that is kept is clean by the referee and less strained than the first correction left
-// it (which --no-resolve-relaxed keeps).
+// last (a 14 degree bend) in one 30 Hz interval. The correction of that frame leaves the shirt
+// strained past max_strain; relaxed and resolved again, the shirt that is kept is clean by the
+// referee and less strained than the first correction left it (which --no-resolve-relaxed keeps).
 TEST(WornGarment, ASpikedFrameIsRelaxedResolvedAgainAndKeptWhenLessStrained) {
   ProceduralAnimationParams ap;
   ap.frames = 10;

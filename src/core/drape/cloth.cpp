@@ -334,8 +334,8 @@ int ClothState::weldClosedSeams(double tolerance) {
 }
 
 int ClothState::relaxStrainedSprings(int passes, double compressed) {
-  const double limit = 1.0 + params_.stretch_threshold;
-  const double floor = compressed > 0 ? 1.0 - compressed : 0.0;
+  const double longest = 1.0 + params_.stretch_threshold;
+  const double shortest = compressed > 0 ? 1.0 - compressed : 0.0;
   int done = 0;
   for (int pass = 0; pass < passes; ++pass) {
     bool moved = false;
@@ -343,8 +343,11 @@ int ClothState::relaxStrainedSprings(int passes, double compressed) {
       if (sp.type != SpringType::Structural) continue;
       const Eigen::RowVector3d d = x_.row(sp.b) - x_.row(sp.a);
       const double len = d.norm();
-      const double bound = len > limit * sp.rest ? limit * sp.rest : (len < floor * sp.rest ? floor * sp.rest : len);
-      if (bound == len || !(len > 0)) continue;
+      if (!(len > 0)) continue;
+      double bound = len;  // the length the spring is brought to
+      if (len > longest * sp.rest) bound = longest * sp.rest;
+      else if (len < shortest * sp.rest) bound = shortest * sp.rest;
+      else continue;
       const double ia = 1.0 / m_[sp.a], ib = 1.0 / m_[sp.b];
       const Eigen::RowVector3d corr = ((len - bound) / (len * (ia + ib))) * d;
       x_.row(sp.a) += ia * corr;

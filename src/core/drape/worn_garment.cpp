@@ -14,6 +14,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// The largest of per-node strains (0 for none).
+double largest(const std::vector<double>& strain) {
+  double m = 0;
+  for (double s : strain) m = std::max(m, s);
+  return m;
+}
+
 std::string num(double v) {
   std::ostringstream o;
   o.precision(4);
@@ -267,7 +274,7 @@ bool WornGarment::stepCloth(const FrameMaps& from, const FrameMaps& to, double s
 void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
   ClothState& cloth = *cloth_;
   garment_ = cloth.mesh();
-  for (double s : cloth.nodeStrain(garment_.V)) rep.strain_stepped = std::max(rep.strain_stepped, s);
+  rep.strain_stepped = largest(cloth.nodeStrain(garment_.V));
   if (params_.resolve) {
     const auto t0 = Clock::now();
     rep.resolver = resolvePenetrations(body, garment_, frame_resolver_);
@@ -286,8 +293,7 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
     cloth.positions() = garment_.V;
   }
   strain_ = cloth.nodeStrain(garment_.V);
-  rep.strain_max = 0;
-  for (double s : strain_) rep.strain_max = std::max(rep.strain_max, s);
+  rep.strain_max = largest(strain_);
   const double spike = params_.drape.max_strain > 0 ? params_.drape.max_strain : cloth.params().stretch_threshold;
   if (params_.relax_passes > 0 && rep.strain_max > spike) {
     rep.relax_passes = cloth.relaxStrainedSprings(params_.relax_passes, params_.relax_compression);
@@ -305,11 +311,10 @@ void WornGarment::resolveRelaxed(const Body& body, WornFrameReport& rep) {
   rep.seconds_resolve += since(t0);
   if (!second.converged) return;
   std::vector<double> strain = cloth.nodeStrain(relaxed.V);
-  double largest = 0;
-  for (double s : strain) largest = std::max(largest, s);
-  if (!(largest < rep.strain_max)) return;
+  const double strainMax = largest(strain);
+  if (!(strainMax < rep.strain_max)) return;
   rep.resolved_relaxed = true;
-  rep.strain_max = largest;
+  rep.strain_max = strainMax;
   rep.relaxed_resolver = second;
   strain_ = std::move(strain);
   garment_ = std::move(relaxed);
