@@ -127,7 +127,8 @@ std::string TryonNode::frameOf(const pcl_msgs::PolygonMesh& msg) {
 }
 
 // ~objective: "smooth" (default: the rounds, then the shape relaxation) or "paper" (the rounds
-// alone); ~relaxation/max_sweeps, strain_limit, local_rotations and polish_strain tune the relaxation.
+// alone); ~relaxation/max_sweeps, strain_limit, local_rotations, polish_strain and
+// fine_polish_strain tune the relaxation.
 void TryonNode::readObjective(ResolverParams& p) {
   const ResolverParams d;
   std::string objective;
@@ -145,6 +146,8 @@ void TryonNode::readObjective(ResolverParams& p) {
   pnh_.param("relaxation/local_rotations", p.relaxation.local_rotations, d.relaxation.local_rotations);
   p.relaxation.polish_strain = readDouble(pnh_, "relaxation/polish_strain", d.relaxation.polish_strain, false);
   if (p.relaxation.polish_strain == 0) p.relaxation.polish_passes = 0;
+  p.relaxation.fine_polish_strain =
+      readDouble(pnh_, "relaxation/fine_polish_strain", d.relaxation.fine_polish_strain, false);
 }
 
 void TryonNode::readParameters() {

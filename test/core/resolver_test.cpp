@@ -91,6 +91,44 @@ TEST(Detection, SharedOutAmongThreadsFindsWhatOneThreadFinds) {
   EXPECT_EQ(key(all.garment_edges).size(), all.garment_edges.size());  // already sorted and unique
 }
 
+TEST(Detection, KeptCandidatesFindWhatTheTreeFindsWhileTheGarmentMoves) {
+  // The wrinkled tube moved in steps: small ones (inside the kept boxes: the candidates are
+  // reused) and one larger than the margin (the boxes are left: the tree is asked again). After
+  // every step the detection with kept candidates equals the plain one, crossing for crossing.
+  ResolveScene s = makeWrinkledTubeScene(24, 24);
+  Body b(s.body);
+  const GarmentTopology topo(s.garment);
+  CandidateCache cache(0.002);
+  std::vector<int> faces;
+  for (int f = 0; f < s.garment.F.rows(); f += 2) faces.push_back(f);  // half the faces, distinct
+  auto same = [](const std::vector<EdgeFaceCrossing>& a, const std::vector<EdgeFaceCrossing>& c) {
+    if (a.size() != c.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (a[i].edge != c[i].edge || a[i].face != c[i].face || a[i].t != c[i].t || a[i].bary != c[i].bary) return false;
+    return true;
+  };
+  const double steps[] = {0, 0.0003, -0.0006, 0.0009, 0.004, 0.0002, -0.0045};
+  std::size_t queriedBefore = 0;
+  for (double step : steps) {
+    // A radial move of every vertex (the tube's axis is y), growing and shrinking the tube.
+    for (Eigen::Index v = 0; v < s.garment.V.rows(); ++v) {
+      Eigen::RowVector3d r = s.garment.V.row(v);
+      r.y() = 0;
+      if (r.norm() > 0) s.garment.V.row(v) += step * r.normalized();
+    }
+    CrossingSet plain, kept;
+    detectCrossings(b, s.garment, topo, plain, &faces);
+    detectCrossings(b, s.garment, topo, kept, &faces, cache);
+    EXPECT_GT(plain.size(), 0u);
+    EXPECT_TRUE(same(plain.garment_edges, kept.garment_edges)) << "step " << step;
+    EXPECT_TRUE(same(plain.body_edges, kept.body_edges)) << "step " << step;
+    if (std::abs(step) >= 0.004) EXPECT_GT(cache.queried, queriedBefore);  // left its boxes: asked again
+    queriedBefore = cache.queried;
+  }
+  EXPECT_GT(cache.reused, cache.queried);  // most steps stayed inside the kept boxes
+  EXPECT_EQ(cache.reused + cache.queried, faces.size() * (sizeof steps / sizeof steps[0]));
+}
+
 TEST(Resolver, SphereWithPatchThroughItsCap) {
   // A cloth patch 2 cm below the top of a 10 cm sphere: its middle is inside.
   const TriMesh body = makeSphere(0.1, V3::Zero(), 4);

@@ -103,11 +103,16 @@ void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopolog
 
 namespace {
 
-// The crossings of the garment faces faces[first .. last) (or faces first .. last) with the body.
+// The crossings of the garment faces faces[first .. last) (or faces first .. last) with the body;
+// with a cache, each face's candidates come from it where still valid (and are refreshed in it
+// where not: each face's entry is written by the one thread that owns the face).
 void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology& topo, const FaceBoxTree& tree,
-                 const std::vector<int>* faces, int first, int last, CrossingSet& out) {
+                 const std::vector<int>* faces, int first, int last, CrossingSet& out,
+                 CandidateCache* cache = nullptr, std::size_t* reused = nullptr) {
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
+  const MatrixX3d& BV = body.mesh().V;
+  const MatrixX3i& BF = body.mesh().F;
   for (int i = first; i < last; ++i) {
     const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
     Eigen::Vector3d lo = row(GV, GF(gf, 0)), hi = lo;
@@ -118,7 +123,27 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
     const Eigen::Vector3d x0 = row(GV, GF(gf, 0));
     const Eigen::Vector3d gn = (row(GV, GF(gf, 1)) - x0).cross(row(GV, GF(gf, 2)) - x0);
     const double gm = kPlaneMargin * gn.norm();
-    tree.overlapping(lo, hi, [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, gm, out); });
+    auto test = [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, gm, out); };
+    if (!cache) {
+      tree.overlapping(lo, hi, test);
+      continue;
+    }
+    const std::size_t c = static_cast<std::size_t>(gf);
+    if (cache->valid[c] && (lo.array() >= cache->lo[c].array()).all() && (hi.array() <= cache->hi[c].array()).all()) {
+      ++*reused;
+    } else {
+      cache->lo[c] = lo.array() - cache->margin;
+      cache->hi[c] = hi.array() + cache->margin;
+      cache->faces[c].clear();
+      tree.overlapping(cache->lo[c], cache->hi[c], [&](int bf) { cache->faces[c].push_back(bf); });
+      cache->valid[c] = 1;
+    }
+    // The same pairs as the tree gives for the face's own box: every candidate whose box overlaps it.
+    for (int bf : cache->faces[c]) {
+      const Eigen::Vector3d a = row(BV, BF(bf, 0)), b = row(BV, BF(bf, 1)), d = row(BV, BF(bf, 2));
+      const Eigen::Vector3d blo = a.cwiseMin(b).cwiseMin(d), bhi = a.cwiseMax(b).cwiseMax(d);
+      if ((blo.array() <= hi.array()).all() && (lo.array() <= bhi.array()).all()) test(bf);
+    }
   }
 }
 
@@ -141,8 +166,31 @@ int detectionThreads(int faces) {
 // started for this call (one per hardware thread, at most 8; none outlives the call, so a process
 // may fork at any time), each with its own list; the lists are joined, sorted and made unique, so
 // the result does not depend on the number of threads.
+namespace {
+void detectCrossingsWith(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                         CrossingSet& out, const std::vector<int>* faces, CandidateCache* cache);
+}  // namespace
+
 void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
                      CrossingSet& out, const std::vector<int>* faces) {
+  detectCrossingsWith(body, garment, topo, out, faces, nullptr);
+}
+
+void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                     CrossingSet& out, const std::vector<int>* faces, CandidateCache& cache) {
+  const std::size_t nf = static_cast<std::size_t>(garment.F.rows());
+  if (cache.valid.size() != nf) {
+    cache.lo.assign(nf, Eigen::Vector3d::Zero());
+    cache.hi.assign(nf, Eigen::Vector3d::Zero());
+    cache.faces.assign(nf, {});
+    cache.valid.assign(nf, 0);
+  }
+  detectCrossingsWith(body, garment, topo, out, faces, &cache);
+}
+
+namespace {
+void detectCrossingsWith(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                         CrossingSet& out, const std::vector<int>* faces, CandidateCache* cache) {
   out.garment_edges.clear();
   out.body_edges.clear();
   if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
@@ -151,13 +199,15 @@ void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
   body.edges();  // the body's adjacency, built before any thread reads it
   const int n = faces ? static_cast<int>(faces->size()) : static_cast<int>(garment.F.rows());
   const int threads = detectionThreads(n);
+  std::vector<std::size_t> reused(static_cast<std::size_t>(threads), 0);
   if (threads == 1) {
-    detectRange(body, garment, topo, tree, faces, 0, n, out);
+    detectRange(body, garment, topo, tree, faces, 0, n, out, cache, &reused[0]);
   } else {
     std::vector<CrossingSet> part(static_cast<std::size_t>(threads));
     auto range = [&](int t) {
       detectRange(body, garment, topo, tree, faces, static_cast<int>(static_cast<long long>(n) * t / threads),
-                  static_cast<int>(static_cast<long long>(n) * (t + 1) / threads), part[static_cast<std::size_t>(t)]);
+                  static_cast<int>(static_cast<long long>(n) * (t + 1) / threads), part[static_cast<std::size_t>(t)],
+                  cache, &reused[static_cast<std::size_t>(t)]);
     };
     std::vector<std::thread> workers;
     for (int t = 1; t < threads; ++t) workers.emplace_back(range, t);
@@ -168,8 +218,15 @@ void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
       out.body_edges.insert(out.body_edges.end(), c.body_edges.begin(), c.body_edges.end());
     }
   }
+  if (cache) {
+    std::size_t r = 0;
+    for (std::size_t x : reused) r += x;
+    cache->reused += r;
+    cache->queried += static_cast<std::size_t>(n) - r;
+  }
   sortUnique(out.garment_edges);
   sortUnique(out.body_edges);
 }
+}  // namespace
 
 }  // namespace virtual_tryon

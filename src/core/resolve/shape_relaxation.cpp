@@ -2,6 +2,7 @@
 
 #include "virtual_tryon/core/geometry/point_queries.h"
 
+#include "core/geometry/parallel_ranges.h"
 #include "core/resolve/face_clearance.h"
 #include "core/resolve/resolver_run.h"
 
@@ -23,6 +24,7 @@ constexpr int kMaxRevertPasses = 64;
 constexpr int kMaxWalkSteps = 16;
 constexpr int kContactPasses = 3;
 constexpr int kRotationIterations = 8;
+constexpr int kRotationsPerThread = 256;  // fewer active vertices: one thread fits their rotations
 constexpr double kRotationTolerance = 1e-6;  // rad: a rotation fit stops when its step is below this
 constexpr int kPolishRounds = 3;
 // A contact whose movable corners carry less weight than this is left to the step back (moving
@@ -60,8 +62,13 @@ class ShapeRelaxation {
     // Every vertex that moved, checked once more however little it moved since its last check;
     // should that leave a crossing, the resolver's own clean state is kept. A step back in that
     // check can tear an edge again: then the polish and the check once more.
-    for (int round = 0; round < kPolishRounds && !active_.empty(); ++round) {
-      polish();
+    // With a fine polish, its round comes first and the coarse polish always follows it: the
+    // fine limit fights edges that must stretch (a hem round an arm), and what a step back tears
+    // there goes back to polish_strain.
+    const bool fine = p_.fine_polish_strain > 0 && p_.fine_polish_strain < p_.polish_strain;
+    for (int round = 0; round < kPolishRounds + (fine ? 1 : 0) && !active_.empty(); ++round) {
+      const bool fineRound = fine && round == 0;
+      polish(fineRound ? p_.fine_polish_strain : p_.polish_strain);
       const std::size_t stepsBefore = rep_.steps_back, contactsBefore = contacts_.size();
       if (!verify(0)) {
         for (int v : active_) g_.V.row(v) = start_[v];
@@ -69,10 +76,12 @@ class ShapeRelaxation {
         break;
       }
       const bool added = p_.face_clearance > 0 && addFaceClearanceContacts() > 0;
-      if (rep_.steps_back == stepsBefore && contacts_.size() == contactsBefore && !added) break;
+      if (!fineRound && rep_.steps_back == stepsBefore && contacts_.size() == contactsBefore && !added) break;
     }
     rep_.active_vertices = active_.size();
     rep_.contacts = contacts_.size();
+    rep_.faces_checked = candidates_.reused + candidates_.queried;
+    rep_.candidates_reused = candidates_.reused;
     rep_.seconds = seconds(t0);
     return rep_;
   }
@@ -220,11 +229,11 @@ class ShapeRelaxation {
   // After the sweeps: edges strained beyond `polish_strain` are brought back to it, held vertices
   // too (a step back near the end leaves single edges torn between a vertex that stepped back and
   // one that did not), the contacts kept, each pass checked for crossings like a sweep.
-  void polish() {
+  void polish(double strain) {
     sweep_ = std::numeric_limits<int>::max() / 2;  // nothing is held any more
     for (int pass = 0; pass < std::max(1, p_.polish_passes) && !active_.empty(); ++pass) {
       for (int v : active_) clean_[v] = g_.V.row(v);
-      if (p_.polish_passes > 0) limitStrain(p_.polish_strain);
+      if (p_.polish_passes > 0) limitStrain(strain);
       projectContacts();
       verify(p_.check_distance);
     }
@@ -248,28 +257,33 @@ class ShapeRelaxation {
   // current ones (ARAP's local step), by the warm-started iteration of Mueller et al. 2016 ("A
   // robust method to extract the rotational part of deformations").
   void updateRotations() {
-    for (int v : active_) {
-      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-      const Eigen::Vector3d x = g_.V.row(v).transpose(), x0 = in_.V.row(v).transpose();
-      for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
-        const int j = graph_.adj_v[i];
-        A += (x - g_.V.row(j).transpose()) * (x0 - in_.V.row(j).transpose()).transpose();
-      }
-      Eigen::Quaterniond& q = quat_[v];
-      for (int it = 0; it < kRotationIterations; ++it) {
-        const Eigen::Matrix3d R = q.toRotationMatrix();
-        const Eigen::Vector3d omega = (R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2))) /
-                                      (std::abs(R.col(0).dot(A.col(0)) + R.col(1).dot(A.col(1)) + R.col(2).dot(A.col(2))) + 1e-12);
-        const double w = omega.norm();
-        if (!(w > kRotationTolerance)) break;
-        // A small turn by its first-order quaternion (no sine or cosine), a large one exactly.
-        const Eigen::Quaterniond dq = w < 0.1 ? Eigen::Quaterniond(1, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
-                                              : Eigen::Quaterniond(Eigen::AngleAxisd(w, omega / w));
-        q = dq * q;
-        q.normalize();
-      }
-      rot_[v] = q.toRotationMatrix();
+    parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread, [this](int first, int last) {
+      for (int i = first; i < last; ++i) fitRotation(active_[static_cast<std::size_t>(i)]);
+    });
+  }
+
+  // Vertex v's rotation, warm-started from its last (independent of every other vertex's).
+  void fitRotation(int v) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    const Eigen::Vector3d x = g_.V.row(v).transpose(), x0 = in_.V.row(v).transpose();
+    for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
+      const int j = graph_.adj_v[i];
+      A += (x - g_.V.row(j).transpose()) * (x0 - in_.V.row(j).transpose()).transpose();
     }
+    Eigen::Quaterniond& q = quat_[v];
+    for (int it = 0; it < kRotationIterations; ++it) {
+      const Eigen::Matrix3d R = q.toRotationMatrix();
+      const Eigen::Vector3d omega = (R.col(0).cross(A.col(0)) + R.col(1).cross(A.col(1)) + R.col(2).cross(A.col(2))) /
+                                    (std::abs(R.col(0).dot(A.col(0)) + R.col(1).dot(A.col(1)) + R.col(2).dot(A.col(2))) + 1e-12);
+      const double w = omega.norm();
+      if (!(w > kRotationTolerance)) break;
+      // A small turn by its first-order quaternion (no sine or cosine), a large one exactly.
+      const Eigen::Quaterniond dq = w < 0.1 ? Eigen::Quaterniond(1, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
+                                            : Eigen::Quaterniond(Eigen::AngleAxisd(w, omega / w));
+      q = dq * q;
+      q.normalize();
+    }
+    rot_[v] = q.toRotationMatrix();
   }
 
   // Edges longer than (1 + strain_limit) or shorter than (1 - strain_limit) times their input length
@@ -311,6 +325,12 @@ class ShapeRelaxation {
   // its vertices go back to the resolver's state, which is clean, until none is left. Returns
   // false only if that did not end.
   bool verify(double distance) {
+    const auto t0 = Clock::now();
+    const bool clean = checkAndStepBack(distance);
+    rep_.seconds_checks += seconds(t0);
+    return clean;
+  }
+  bool checkAndStepBack(double distance) {
     std::vector<int> check, stepped;
     for (int v : active_) {
       const double moved = (g_.V.row(v) - checked_[v]).norm();
@@ -417,7 +437,7 @@ class ShapeRelaxation {
   void detectAround(const std::vector<int>& vertices, CrossingSet& found) {
     facesAround(vertices, 0.0);
     if (faces_.empty()) return;
-    detectCrossings(body_, g_, topo_, found, &faces_);
+    detectCrossings(body_, g_, topo_, found, &faces_, candidates_);
     ++rep_.detections;
   }
 
@@ -483,6 +503,7 @@ class ShapeRelaxation {
   };
   std::vector<Contact> contacts_;
   std::unordered_set<long long> contact_keys_;
+  CandidateCache candidates_;  // each checked face's body faces, reused while it stays in its box
 
   const Body& body_;
   const TriMesh& in_;

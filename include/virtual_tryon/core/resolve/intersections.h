@@ -38,4 +38,23 @@ struct GarmentTopology {
 void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
                      CrossingSet& out, const std::vector<int>* faces = nullptr);
 
+// Each garment face's candidate body faces, kept between detections of a garment that moves a
+// little at a time (the shape relaxation checks the same faces some 20 times): a face's body faces
+// are those whose boxes overlap its own box grown by `margin` on every side, and while the face's
+// box stays inside that grown box they are reused instead of asking the body's tree again. Valid
+// for one body and one garment's faces; the body must not move while it is in use.
+struct CandidateCache {
+  explicit CandidateCache(double margin_m = 0.002) : margin(margin_m) {}
+  double margin;                              // m
+  std::vector<Eigen::Vector3d> lo, hi;        // per garment face: the grown box (empty: none yet)
+  std::vector<std::vector<int>> faces;        // per garment face: its candidate body faces
+  std::vector<char> valid;                    // per garment face
+  std::size_t reused = 0, queried = 0;        // faces answered from the cache / by the tree
+};
+
+// As detectCrossings(), with the candidates taken from (and kept in) `cache`; the same result.
+// The faces in `faces` must be distinct (threads share the work by face).
+void detectCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
+                     CrossingSet& out, const std::vector<int>* faces, CandidateCache& cache);
+
 }  // namespace virtual_tryon

@@ -1,0 +1,33 @@
+// Internal to the core: a loop over [0, n) shared among threads started for the call (one per
+// hardware thread, at most 8, each with at least `min_per_thread` items; none outlives the call,
+// so a process may fork at any time). For work whose items are independent: the result must not
+// depend on how the range is cut.
+#pragma once
+
+#include <algorithm>
+#include <thread>
+#include <vector>
+
+namespace virtual_tryon {
+
+// Calls body(first, last) on disjoint sub-ranges covering [0, n), the first on the calling thread.
+template <class Body>
+void parallelRanges(int n, int min_per_thread, Body&& body) {
+  constexpr unsigned kMaxThreads = 8;
+  const unsigned hw = std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads));
+  const int threads = std::max(1, std::min(static_cast<int>(hw), n / std::max(1, min_per_thread)));
+  if (threads == 1) {
+    if (n > 0) body(0, n);
+    return;
+  }
+  auto range = [&](int t) {
+    body(static_cast<int>(static_cast<long long>(n) * t / threads),
+         static_cast<int>(static_cast<long long>(n) * (t + 1) / threads));
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < threads; ++t) workers.emplace_back(range, t);
+  range(0);
+  for (auto& w : workers) w.join();
+}
+
+}  // namespace virtual_tryon
