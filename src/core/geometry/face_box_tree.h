@@ -28,6 +28,10 @@ class FaceBoxTree {
   void refit(const MatrixX3d& V, const MatrixX3i& F);
   bool empty() const { return nodes_.empty(); }
 
+  // Face f's bounding box as the tree holds it (as built or last refitted).
+  const Eigen::Vector3d& faceLo(int f) const { return face_lo_[static_cast<std::size_t>(f)]; }
+  const Eigen::Vector3d& faceHi(int f) const { return face_hi_[static_cast<std::size_t>(f)]; }
+
  private:
   struct Node {
     Eigen::Vector3d lo, hi;

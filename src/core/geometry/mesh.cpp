@@ -233,16 +233,45 @@ MatrixX3d vertexNormals(const TriMesh& mesh) {
   return N;
 }
 
-MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges) {
-  const Eigen::Index nf = mesh.F.rows();
-  std::vector<std::pair<std::pair<int, int>, Eigen::Index>> half;  // ((lo, hi), 3f + k)
-  half.reserve(static_cast<std::size_t>(3 * nf));
+namespace {
+
+// Every face side as ((lo, hi), 3f + k), sorted: bucketed by lo (a counting sort, which keeps the
+// sides of each bucket in the order of 3f + k), then each small bucket sorted by hi, stable.
+std::vector<std::pair<std::pair<int, int>, Eigen::Index>> sortedFaceSides(const MatrixX3i& F) {
+  const Eigen::Index nf = F.rows();
+  std::vector<std::pair<std::pair<int, int>, Eigen::Index>> half(static_cast<std::size_t>(3 * nf));
+  if (nf == 0) return half;
+  const int lowest = F.minCoeff(), highest = F.maxCoeff();
+  if (lowest < 0 || static_cast<long long>(highest) - lowest > 16 * static_cast<long long>(half.size()) + 1024) {
+    for (Eigen::Index f = 0; f < nf; ++f)  // indices out of a sane range: a plain sort
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(f, k), b = F(f, (k + 1) % 3);
+        half[static_cast<std::size_t>(3 * f + k)] = {{std::min(a, b), std::max(a, b)}, 3 * f + k};
+      }
+    std::sort(half.begin(), half.end());
+    return half;
+  }
+  std::vector<int> start(static_cast<std::size_t>(highest - lowest) + 2, 0);
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(std::min(F(f, k), F(f, (k + 1) % 3)) - lowest) + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<int> fill(start.begin(), start.end() - 1);
   for (Eigen::Index f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
-      const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
-      half.push_back({{std::min(a, b), std::max(a, b)}, 3 * f + k});
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      half[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b) - lowest)]++)] = {{std::min(a, b), std::max(a, b)}, 3 * f + k};
     }
-  std::sort(half.begin(), half.end());
+  for (std::size_t i = 0; i + 1 < start.size(); ++i)
+    std::stable_sort(half.begin() + start[i], half.begin() + start[i + 1],
+                     [](const auto& x, const auto& y) { return x.first.second < y.first.second; });
+  return half;
+}
+
+}  // namespace
+
+MatrixX2i uniqueEdges(const TriMesh& mesh, MatrixX3i* faceEdges) {
+  const Eigen::Index nf = mesh.F.rows();
+  const std::vector<std::pair<std::pair<int, int>, Eigen::Index>> half = sortedFaceSides(mesh.F);
   MatrixX2i E(static_cast<Eigen::Index>(half.size()), 2);
   if (faceEdges) faceEdges->resize(nf, 3);
   Eigen::Index ne = 0;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <thread>
 #include <vector>
 
@@ -27,6 +28,29 @@ void parallelRanges(int n, int min_per_thread, Body&& body) {
   std::vector<std::thread> workers;
   for (int t = 1; t < threads; ++t) workers.emplace_back(range, t);
   range(0);
+  for (auto& w : workers) w.join();
+}
+
+// Calls item(i) once for every i in [0, n), the items handed out one at a time to threads
+// started for the call (one per hardware thread, at most 8; one thread for fewer than
+// `min_items`), so that unequal items (impact zones of a few stencils and of hundreds) share
+// the threads evenly. For independent items: each writes its own result.
+template <class Item>
+void parallelItems(int n, int min_items, Item&& item) {
+  constexpr unsigned kMaxThreads = 8;
+  const unsigned hw = std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads));
+  const int threads = n < std::max(2, min_items) ? 1 : std::min(static_cast<int>(hw), n);
+  if (threads == 1) {
+    for (int i = 0; i < n; ++i) item(i);
+    return;
+  }
+  std::atomic<int> next{0};
+  auto work = [&] {
+    for (int i = next++; i < n; i = next++) item(i);
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < threads; ++t) workers.emplace_back(work);
+  work();
   for (auto& w : workers) w.join();
 }
 

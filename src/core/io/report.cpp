@@ -27,6 +27,8 @@ std::string toJson(const ShapeRelaxationReport& x, const ResolverReport& r) {
       .add("faces_checked", x.faces_checked)
       .add("candidates_reused", x.candidates_reused)
       .add("seconds_checks", x.seconds_checks)
+      .add("seconds_setup", x.seconds_setup)
+      .add("seconds_rotations", x.seconds_rotations)
       .add("last_step_m", x.last_step)
       .add("clean", x.clean)
       .add("seconds", x.seconds)

@@ -111,8 +111,6 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
                  CandidateCache* cache = nullptr, std::size_t* reused = nullptr) {
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
-  const MatrixX3d& BV = body.mesh().V;
-  const MatrixX3i& BF = body.mesh().F;
   for (int i = first; i < last; ++i) {
     const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
     Eigen::Vector3d lo = row(GV, GF(gf, 0)), hi = lo;
@@ -138,12 +136,10 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
       tree.overlapping(cache->lo[c], cache->hi[c], [&](int bf) { cache->faces[c].push_back(bf); });
       cache->valid[c] = 1;
     }
-    // The same pairs as the tree gives for the face's own box: every candidate whose box overlaps it.
-    for (int bf : cache->faces[c]) {
-      const Eigen::Vector3d a = row(BV, BF(bf, 0)), b = row(BV, BF(bf, 1)), d = row(BV, BF(bf, 2));
-      const Eigen::Vector3d blo = a.cwiseMin(b).cwiseMin(d), bhi = a.cwiseMax(b).cwiseMax(d);
-      if ((blo.array() <= hi.array()).all() && (lo.array() <= bhi.array()).all()) test(bf);
-    }
+    // The same pairs as the tree gives for the face's own box: every candidate whose box (the
+    // tree's own, read from two packed arrays) overlaps it.
+    for (int bf : cache->faces[c])
+      if ((tree.faceLo(bf).array() <= hi.array()).all() && (lo.array() <= tree.faceHi(bf).array()).all()) test(bf);
   }
 }
 

@@ -2,6 +2,8 @@
 
 #include "virtual_tryon/core/geometry/point_queries.h"
 
+#include "core/geometry/parallel_ranges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -13,6 +15,8 @@ namespace {
 
 // Passes of the face-middle lift before the rounds (each face clearance projected in turn).
 constexpr int kFaceLiftPasses = 2;
+// Fewer impact zones than this in a round: one thread solves them (threads cost more than they save).
+constexpr int kParallelZones = 4;
 
 // Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
 std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
@@ -555,8 +559,13 @@ void ResolverRun::solveZones(const std::vector<Stencil>& stencils, ResolverItera
   const auto zones = groupImpactZones(stencils, nv_);
   it.impact_zones = zones.size();
   rep_.impact_zones += zones.size();
-  for (const auto& zone : zones) {
-    const ZoneSolution sol = solveImpactZone(stencils, zone, d_);
+  // The zones share no garment vertex: they are solved on the hardware threads, then applied in
+  // their order (the same moves whatever the number of threads).
+  std::vector<ZoneSolution> solutions(zones.size());
+  parallelItems(static_cast<int>(zones.size()), kParallelZones, [&](int z) {
+    solutions[static_cast<std::size_t>(z)] = solveImpactZone(stencils, zones[static_cast<std::size_t>(z)], d_);
+  });
+  for (const ZoneSolution& sol : solutions) {
     it.max_condition_estimate = std::max(it.max_condition_estimate, sol.condition_estimate);
     if (!sol.feasible) {
       // Contradicting stencils (the body's normals point every way round this spot): any move

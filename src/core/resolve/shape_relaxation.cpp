@@ -22,9 +22,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kMaxRevertPasses = 64;
 constexpr int kMaxWalkSteps = 16;
+constexpr int kWalkMemory = 96;  // faces a walk remembers having measured
 constexpr int kContactPasses = 3;
 constexpr int kRotationIterations = 8;
 constexpr int kRotationsPerThread = 256;  // fewer active vertices: one thread fits their rotations
+constexpr int kPlanesPerThread = 128;     // fewer active vertices: one thread takes their first planes
 constexpr double kRotationTolerance = 1e-6;  // rad: a rotation fit stops when its step is below this
 constexpr int kPolishRounds = 3;
 // A contact whose movable corners carry less weight than this is left to the step back (moving
@@ -43,6 +45,9 @@ class ShapeRelaxation {
     chooseActive();
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
+    turned_.resize(graph_.adj_v.size());
+    turnEdges(0, static_cast<int>(active_.size()));
+    rep_.seconds_setup = seconds(t0);
     const int perCheck = std::max(1, p_.sweeps_per_check);
     for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
       if (p_.time_budget > 0 && seconds(t0) >= p_.time_budget) break;
@@ -115,6 +120,12 @@ class ShapeRelaxation {
     for (int v = 0; v < nv_; ++v)
       if (active_flag_[v]) active_.push_back(v);
     takeRestLengths();
+    input_length_.assign(static_cast<std::size_t>(topo_.edges.rows()), 0.0);
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+      const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
+      input_length_[static_cast<std::size_t>(e)] = (in_.V.row(a) - in_.V.row(b)).norm();
+      if (active_flag_[a] || active_flag_[b]) active_edges_.push_back(e);
+    }
     clean_.resize(static_cast<std::size_t>(nv_));
     start_.resize(clean_.size());
     checked_.resize(clean_.size());
@@ -152,6 +163,11 @@ class ShapeRelaxation {
   // later ones, for a vertex that moved a little, walk from its last face over the faces that share
   // a corner with the nearest one so far (the nearest point moves little with the vertex).
   void takePlane(int v, const Eigen::Vector3d& x) {
+    takePlaneOf(v, x);
+    ++rep_.plane_queries;
+  }
+  // takePlane() without the count: touches vertex v's entries alone (threads may share vertices).
+  void takePlaneOf(int v, const Eigen::Vector3d& x) {
     int face = plane_face_[v];
     Eigen::Vector3d point;
     if (face < 0) {
@@ -163,7 +179,6 @@ class ShapeRelaxation {
     } else {
       point = walkToNearest(x, face);
     }
-    ++rep_.plane_queries;
     Eigen::Vector3d n = body_.faceNormals().row(face).transpose();
     const Eigen::Vector3d r = x - point;
     if (r.norm() > 1e-9 && r.dot(n) > 0) n = r.normalized();
@@ -183,11 +198,23 @@ class ShapeRelaxation {
     };
     Eigen::Vector3d best = nearestOn(face);
     double bestD = (best - x).squaredNorm();
+    // Faces already measured in this walk are not measured again: none was nearer than the best
+    // then, and the best only gets nearer (the same walk, for less).
+    std::array<int, kWalkMemory> seen;
+    int seenCount = 0;
+    seen[seenCount++] = face;
+    auto measured = [&](int f) {
+      for (int i = 0; i < seenCount; ++i)
+        if (seen[static_cast<std::size_t>(i)] == f) return true;
+      if (seenCount < kWalkMemory) seen[static_cast<std::size_t>(seenCount++)] = f;
+      return false;
+    };
     for (int step = 0; step < kMaxWalkSteps; ++step) {
       const int from = face;
       for (int k = 0; k < 3; ++k) {
         const int c = B.F(from, k);
         for (int i = bvfStart[c]; i < bvfStart[c + 1]; ++i) {
+          if (measured(bvf[i])) continue;
           const Eigen::Vector3d q = nearestOn(bvf[i]);
           const double dq = (q - x).squaredNorm();
           if (dq < bestD) {
@@ -202,12 +229,18 @@ class ShapeRelaxation {
     return best;
   }
 
+  // Each active vertex's first body plane (a query through the body's tree) and its floor; the
+  // vertices are independent, so the hardware threads share them.
   void setFloors() {
-    for (int v : active_) {
-      const Eigen::Vector3d x = g_.V.row(v).transpose();
-      takePlane(v, x);
-      if (!moved_[v]) floor_[v] = std::min(d_, std::max(0.0, (x - plane_point_[v]).dot(plane_normal_[v])));
-    }
+    parallelRanges(static_cast<int>(active_.size()), kPlanesPerThread, [this](int first, int last) {
+      for (int i = first; i < last; ++i) {
+        const int v = active_[static_cast<std::size_t>(i)];
+        const Eigen::Vector3d x = g_.V.row(v).transpose();
+        takePlaneOf(v, x);
+        if (!moved_[v]) floor_[v] = std::min(d_, std::max(0.0, (x - plane_point_[v]).dot(plane_normal_[v])));
+      }
+    });
+    rep_.plane_queries += active_.size();
   }
 
   // One projected Gauss-Seidel sweep; returns the largest vertex move.
@@ -242,24 +275,38 @@ class ShapeRelaxation {
   // Where vertex v's neighbours put it: the mean over neighbours j of x_j plus the input edge
   // vector (x0_v - x0_j), turned by the mean of both ends' rotations, and a pull mu to the input.
   Eigen::Vector3d target(int v) const {
-    const Eigen::Vector3d x0 = in_.V.row(v).transpose();
-    Eigen::Vector3d sum = p_.mu * x0;
-    const bool turn = p_.local_rotations;
-    for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
-      const int j = graph_.adj_v[i];
-      const Eigen::Vector3d e0 = x0 - in_.V.row(j).transpose();
-      sum += g_.V.row(j).transpose() + (turn ? Eigen::Vector3d(0.5 * (rot_[v] + rot_[j]) * e0) : e0);
-    }
+    Eigen::Vector3d sum = p_.mu * in_.V.row(v).transpose();
+    for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i)
+      sum += g_.V.row(graph_.adj_v[i]).transpose() + turned_[static_cast<std::size_t>(i)];
     return sum / (static_cast<double>(graph_.adj_start[v + 1] - graph_.adj_start[v]) + p_.mu);
+  }
+
+  // turned_: for each active vertex v and neighbour j, the input edge vector x0_v - x0_j turned by
+  // the mean of both ends' rotations (as it is, without local rotations); kept between rotation
+  // fits, so that a sweep only adds.
+  void turnEdges(int first, int last) {
+    for (int k = first; k < last; ++k) {
+      const int v = active_[static_cast<std::size_t>(k)];
+      const Eigen::Vector3d x0 = in_.V.row(v).transpose();
+      for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
+        const int j = graph_.adj_v[i];
+        const Eigen::Vector3d e0 = x0 - in_.V.row(j).transpose();
+        turned_[static_cast<std::size_t>(i)] = p_.local_rotations ? Eigen::Vector3d(0.5 * (rot_[v] + rot_[j]) * e0) : e0;
+      }
+    }
   }
 
   // Each active vertex's rotation: the one that best turns its input edge vectors into the
   // current ones (ARAP's local step), by the warm-started iteration of Mueller et al. 2016 ("A
   // robust method to extract the rotational part of deformations").
   void updateRotations() {
+    const auto t0 = Clock::now();
     parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread, [this](int first, int last) {
       for (int i = first; i < last; ++i) fitRotation(active_[static_cast<std::size_t>(i)]);
     });
+    parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread,
+                   [this](int first, int last) { turnEdges(first, last); });
+    rep_.seconds_rotations += seconds(t0);
   }
 
   // Vertex v's rotation, warm-started from its last (independent of every other vertex's).
@@ -291,11 +338,11 @@ class ShapeRelaxation {
   // each moved end goes back onto its half-space.
   void limitStrain() { limitStrain(p_.strain_limit); }
   void limitStrain(double s) {
-    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+    for (const Eigen::Index e : active_edges_) {
       const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
       const bool ma = active_flag_[a] && held_[a] <= sweep_, mb = active_flag_[b] && held_[b] <= sweep_;
       if (!ma && !mb) continue;
-      const double l0 = (in_.V.row(a) - in_.V.row(b)).norm();
+      const double l0 = input_length_[static_cast<std::size_t>(e)];
       Eigen::RowVector3d ab = g_.V.row(b) - g_.V.row(a);
       const double l = ab.norm();
       if (!(l0 > 0) || !(l > 0)) continue;
@@ -319,11 +366,10 @@ class ShapeRelaxation {
   }
 
   // Detects again round the vertices that moved more than `distance` since their last check (all
-  // that moved at all, for 0). A vertex of a new crossing steps back half way to where this sweep
-  // started, `bisections` times, then all the way (as do the vertices of crossings that this
-  // uncovers); should a crossing still remain (one left by moves too small to be checked before),
-  // its vertices go back to the resolver's state, which is clean, until none is left. Returns
-  // false only if that did not end.
+  // that moved at all, for 0). Each vertex of a crossing steps back a level (stepBack()), and the
+  // faces round the vertices that stepped are detected again, until no crossing is left: a face
+  // whose corners are all back in the resolver's state is clean, so this ends. Returns false only
+  // if it did not end within kMaxRevertPasses passes.
   bool verify(double distance) {
     const auto t0 = Clock::now();
     const bool clean = checkAndStepBack(distance);
@@ -331,33 +377,44 @@ class ShapeRelaxation {
     return clean;
   }
   bool checkAndStepBack(double distance) {
-    std::vector<int> check, stepped;
+    std::vector<int> check, moved, all;
     for (int v : active_) {
-      const double moved = (g_.V.row(v) - checked_[v]).norm();
-      if (moved > distance || (distance == 0 && moved > 0)) check.push_back(v);
+      const double d = (g_.V.row(v) - checked_[v]).norm();
+      if (d > distance || (distance == 0 && d > 0)) check.push_back(v);
     }
-    stepping_.assign(static_cast<std::size_t>(nv_), 0);
-    const int passes = p_.bisections + 1 + kMaxRevertPasses;
-    for (int pass = 0; pass <= passes; ++pass) {
+    level_.assign(static_cast<std::size_t>(nv_), 0);
+    for (int pass = 0; pass <= kMaxRevertPasses; ++pass) {
       CrossingSet found;
-      detectAround(pass == 0 ? check : stepped, found);
+      detectAround(pass == 0 ? check : moved, found);
       if (found.size() == 0) {
         for (int v : check) checked_[v] = g_.V.row(v);
-        for (int v : stepped) checked_[v] = g_.V.row(v);
+        for (int v : all) checked_[v] = g_.V.row(v);
         return true;
       }
-      if (pass == passes) return false;
+      if (pass == kMaxRevertPasses) return false;
       addContacts(found);
-      markCrossed(found, stepped);
-      const std::vector<Eigen::RowVector3d>& towards = pass < passes / 2 ? clean_ : start_;
-      const bool half = pass < p_.bisections;
-      for (int v : stepped) {
-        g_.V.row(v) = half ? Eigen::RowVector3d(0.5 * (g_.V.row(v) + towards[v])) : towards[v];
-        held_[v] = sweep_ + 1 + p_.hold_sweeps;
-        ++rep_.steps_back;
+      moved.clear();
+      markCrossed(found, moved);
+      for (int v : moved) {
+        if (level_[v] == 0) all.push_back(v);
+        stepBack(v);
       }
     }
     return false;
+  }
+
+  // Vertex v of a crossing steps back one level: half way to where this sweep block started
+  // (`bisections` times), then all the way there, then (a crossing that even that did not clear:
+  // the block's start was not checked everywhere) to the resolver's state, which is clean for every
+  // face whose corners are all there. Only the vertices of crossings step, each as far as its own
+  // crossings ask.
+  void stepBack(int v) {
+    const int level = level_[v]++;
+    if (level < p_.bisections) g_.V.row(v) = 0.5 * (g_.V.row(v) + clean_[v]);
+    else if (level == p_.bisections) g_.V.row(v) = clean_[v];
+    else g_.V.row(v) = start_[v];
+    held_[v] = sweep_ + 1 + p_.hold_sweeps;
+    ++rep_.steps_back;
   }
 
   // A crossing found after a sweep becomes a contact that every later sweep keeps, so that the
@@ -421,6 +478,7 @@ class ShapeRelaxation {
 
   // Adds the movable vertices of every crossing in `found` to `stepped` (each once).
   void markCrossed(const CrossingSet& found, std::vector<int>& stepped) {
+    stepping_.resize(static_cast<std::size_t>(nv_), 0);
     auto mark = [&](int v) {
       if (!active_flag_[v] || stepping_[v]) return;
       stepping_[v] = 1;
@@ -432,6 +490,7 @@ class ShapeRelaxation {
     }
     for (const auto& c : found.body_edges)
       for (int k = 0; k < 3; ++k) mark(g_.F(c.face, k));
+    for (int v : stepped) stepping_[v] = 0;
   }
 
   void detectAround(const std::vector<int>& vertices, CrossingSet& found) {
@@ -489,8 +548,10 @@ class ShapeRelaxation {
   // from every point of the face (its two edges' lengths bound that; the distance to the body
   // changes by at most the distance moved).
   bool clearOfBody(int f, double margin) const {
-    for (int k = 0; k < 3; ++k)
-      if (distanceBound(g_.F(f, k)) > resolver_run::cornerReach(g_, f, k) + margin) return true;
+    for (int k = 0; k < 3; ++k) {
+      const double bound = distanceBound(g_.F(f, k));
+      if (bound > margin && bound > resolver_run::cornerReach(g_, f, k) + margin) return true;  // reach >= 0
+    }
     return false;
   }
 
@@ -517,8 +578,11 @@ class ShapeRelaxation {
   std::vector<int> active_, faces_;
   std::vector<char> active_flag_, moved_, stepping_, face_mark_;
   std::vector<double> floor_;
+  std::vector<Eigen::Index> active_edges_;  // edges with an active end, in edge order
+  std::vector<double> input_length_;        // per garment edge: its length in the input
   std::vector<double> edge_rest_;  // per garment edge: its rest length, 0: none (takeRestLengths)
   std::vector<int> held_;  // per vertex: the first sweep it may move again after a step back
+  std::vector<int> level_;  // per vertex: how far it has stepped back in this check (stepBack)
   int sweep_ = 0;
   // Per vertex: at the start of this sweep, at the start of the stage (the resolver's clean state),
   // and where it was last checked for crossings.
@@ -529,6 +593,7 @@ class ShapeRelaxation {
   std::vector<Eigen::Vector3d> exact_at_;  // and where it was then
   std::vector<Eigen::Quaterniond> quat_;  // per vertex: its local rotation (identity when inactive)
   std::vector<Eigen::Matrix3d> rot_;
+  std::vector<Eigen::Vector3d> turned_;  // per neighbour entry of the graph (turnEdges)
 };
 
 }  // namespace

@@ -108,6 +108,8 @@ struct ShapeRelaxationReport {
   std::size_t faces_checked = 0;     // garment faces over all detections
   std::size_t candidates_reused = 0; // of those, answered from their kept candidates (no tree query)
   double seconds_checks = 0;         // of `seconds`, in the crossing checks (detections, steps back)
+  double seconds_setup = 0;          // of `seconds`, choosing the active vertices and their body planes
+  double seconds_rotations = 0;      // of `seconds`, fitting the local rotations
   std::size_t contacts = 0;          // crossings found by the checks and kept as contacts
   double last_step = 0;              // m, largest vertex move of the last sweep
   bool clean = true;                 // no crossing was left (always, unless detection failed)
