@@ -17,6 +17,8 @@ namespace {
 constexpr int kFaceLiftPasses = 2;
 // Fewer impact zones than this in a round: one thread solves them (threads cost more than they save).
 constexpr int kParallelZones = 4;
+// Fewer nearest-point queries than this: one thread answers them.
+constexpr int kNearestPerThread = 64;
 
 // Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
 std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
@@ -400,14 +402,15 @@ bool ResolverRun::decideStopCrossingFree() {
 void ResolverRun::pushOutInsidePieces() {
   const double t0 = clock_.now();
   movedList_.clear();
+  std::vector<int> members;
   for (int p : insidePieces_)
-    for (int i = graph_.piece_start[p]; i < graph_.piece_start[p + 1]; ++i) pushToNearest(graph_.piece_members[i]);
+    for (int i = graph_.piece_start[p]; i < graph_.piece_start[p + 1]; ++i) members.push_back(graph_.piece_members[i]);
+  const std::vector<ClosestPoint> nearest = nearestBodyPoints(members);
+  for (std::size_t i = 0; i < members.size(); ++i) pushTo(members[i], nearest[i]);
   pushedOut_ = true;
   rep_.vertices_inside_after = 0;
   finishPushOut(t0, true);
 }
-
-void ResolverRun::pushToNearest(int v) { pushTo(v, closestPointOnBody(body_, garment_.V.row(v).transpose())); }
 
 void ResolverRun::pushTo(int v, const ClosestPoint& cp) {
   moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
@@ -424,12 +427,27 @@ void ResolverRun::finishPushOut(double t0, bool alwaysNewBest) {
   record(it);
 }
 
+// The nearest body point of each listed garment vertex (as it is now), the queries shared among
+// the hardware threads (each independent of the others).
+std::vector<ClosestPoint> ResolverRun::nearestBodyPoints(const std::vector<int>& vertices) const {
+  std::vector<ClosestPoint> nearest(vertices.size());
+  parallelRanges(static_cast<int>(vertices.size()), kNearestPerThread, [&](int first, int last) {
+    for (int i = first; i < last; ++i)
+      nearest[static_cast<std::size_t>(i)] =
+          closestPointOnBody(body_, garment_.V.row(vertices[static_cast<std::size_t>(i)]).transpose());
+  });
+  return nearest;
+}
+
 void ResolverRun::pushOutInsideVertices() {
   if (!insideTest_ || insideCount_ == 0 || budgetSpent()) return;
   const double t0 = clock_.now();
   movedList_.clear();
+  std::vector<int> inside;
   for (int v = 0; v < nv_; ++v)
-    if (inside_[v]) pushToNearest(v);
+    if (inside_[v]) inside.push_back(v);
+  const std::vector<ClosestPoint> nearest = nearestBodyPoints(inside);
+  for (std::size_t i = 0; i < inside.size(); ++i) pushTo(inside[i], nearest[i]);
   finishPushOut(t0, false);
 }
 
@@ -438,8 +456,11 @@ void ResolverRun::pushOutNearVertices() {
   const double t0 = clock_.now();
   movedList_.clear();
   std::vector<double> distance(static_cast<std::size_t>(nv_));
+  std::vector<int> all(static_cast<std::size_t>(nv_));
+  for (int v = 0; v < nv_; ++v) all[static_cast<std::size_t>(v)] = v;
+  const std::vector<ClosestPoint> nearest = nearestBodyPoints(all);
   for (int v = 0; v < nv_; ++v) {
-    const ClosestPoint cp = closestPointOnBody(body_, garment_.V.row(v).transpose());
+    const ClosestPoint& cp = nearest[static_cast<std::size_t>(v)];
     distance[v] = cp.distance;
     if ((insideTest_ && inside_[v]) || cp.distance < d_) {
       pushTo(v, cp);

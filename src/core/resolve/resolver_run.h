@@ -116,7 +116,8 @@ class ResolverRun {
   void restoreBest();
   void describeBest();
   void moveVertex(int v, const Eigen::RowVector3d& to);
-  void pushToNearest(int v);  // to the nearest body point plus the clearance
+  // The nearest body point of each listed vertex, on the hardware threads.
+  std::vector<ClosestPoint> nearestBodyPoints(const std::vector<int>& vertices) const;
   void pushTo(int v, const ClosestPoint& cp);  // to cp.point plus the clearance along its face normal
   void finishPushOut(double t0, bool alwaysNewBest);
   void redetect();

@@ -23,7 +23,9 @@
 //     edge's outer end by d along the edge's normal; a garment edge through a body face: the
 //     edge's point must pass the face's plane by d), projected by moving its corners together
 //     along its normal. The vertices of a new crossing also step back half way to their last
-//     clean position (up to `bisections` times, then all the way) and rest for `hold_sweeps`
+//     clean position (up to `bisections` times, then all the way, then, should the crossing
+//     remain, to the resolver's state; each vertex by its own level, only the vertices of
+//     crossings) and rest for `hold_sweeps`
 //     sweeps while their neighbours relax round them.
 // Projected Gauss-Seidel: each vertex in turn goes to where its neighbours put it, then onto its
 // half-space; then the strain limit and the contacts. The garment is clean after every check, so
