@@ -69,6 +69,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
     face_edges_ = std::move(faceEdges);
     computeFrameGeometry();
     computeEdgeNormals();
+    computeEdgeFirstFaces();
     adjacency_built_ = true;
   });
   std::call_once(vertex_adjacency_once_, [&] {
@@ -97,10 +98,20 @@ void Body::computeEdgeNormals() const {
   }
 }
 
+void Body::computeEdgeFirstFaces() const {
+  edge_first_face_.assign(static_cast<std::size_t>(edges_.rows()), -1);
+  for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      int& first = edge_first_face_[static_cast<std::size_t>(face_edges_(f, k))];
+      if (first < 0) first = static_cast<int>(f);
+    }
+}
+
 void Body::buildAdjacency() const {
   std::call_once(adjacency_once_, [this] {
     edges_ = uniqueEdges(mesh_, &face_edges_);
     computeEdgeNormals();
+    computeEdgeFirstFaces();
     adjacency_built_ = true;
   });
 }

@@ -62,40 +62,52 @@ bool allOneSide(const Eigen::Vector3d& s, double m) { return (s.array() > m).all
 // crossing that the predicate would report (watertightness at shared edges included).
 constexpr double kPlaneMargin = 1e-9;
 
-// The crossings of garment face gf's three edges with body face bf, and of bf's three edges with gf;
-// `gn` is gf's normal (x1 - x0) x (x2 - x0), `gm` kPlaneMargin times its length. An edge is
-// tested only when its end-points lie on opposite sides of the other face's plane (the
-// predicate's own first test, done once per pair instead of once per edge); a body face wholly on
-// one side of gf's plane (by kPlaneMargin) crosses nothing.
-void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopology& topo, int bf, int gf,
-                  const Eigen::Vector3d& gn, double gm, CrossingSet& out) {
+// What testFacePair() needs of one garment face, taken once per face: its corners, its normal
+// gn = (x1 - x0) x (x2 - x0), gm = kPlaneMargin |gn|, and the body's edge lists.
+struct GarmentFaceContext {
+  int gf = -1;
+  Eigen::Vector3d x[3];
+  Eigen::Vector3d gn;
+  double gm = 0;
+  const MatrixX2i* body_edges = nullptr;
+  const MatrixX3i* body_face_edges = nullptr;
+  const std::vector<int>* body_edge_first_face = nullptr;
+};
+
+// The crossings of garment face g.gf's three edges with body face bf, and of bf's three edges with
+// g.gf. An edge is tested only when its end-points lie on opposite sides of the other face's plane
+// (the predicate's own first test, done once per pair instead of once per edge); a body face
+// wholly on one side of gf's plane (by kPlaneMargin) crosses nothing. Side k of a face (face_edges
+// column k, uniqueEdges()) joins its corners k and k + 1.
+void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopology& topo, int bf,
+                  const GarmentFaceContext& g, CrossingSet& out) {
   const MatrixX3d& BV = body.mesh().V;
   const MatrixX3i& BF = body.mesh().F;
-  const MatrixX3d& GV = garment.V;
-  const MatrixX3i& GF = garment.F;
   const Eigen::Vector3d y[3] = {row(BV, BF(bf, 0)), row(BV, BF(bf, 1)), row(BV, BF(bf, 2))};
-  const Eigen::Vector3d x[3] = {row(GV, GF(gf, 0)), row(GV, GF(gf, 1)), row(GV, GF(gf, 2))};
-  const Eigen::Vector3d sy = planeSides(gn, x[0], y[0], y[1], y[2]);  // body corners to gf
-  if (allOneSide(sy, gm)) return;
+  const Eigen::Vector3d sy = planeSides(g.gn, g.x[0], y[0], y[1], y[2]);  // body corners to gf
+  if (allOneSide(sy, g.gm)) return;
   const Eigen::Vector3d bn = (y[1] - y[0]).cross(y[2] - y[0]);
-  const Eigen::Vector3d sx = planeSides(bn, y[0], x[0], x[1], x[2]);  // garment corners to bf
-  auto side = [](const Eigen::Vector3d& s, const MatrixX3i& F, int f, int v) {
-    return s[F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2)];
-  };
-  const MatrixX2i& BE = body.edges();
-  const MatrixX3i& BFE = body.faceEdges();
+  const Eigen::Vector3d sx = planeSides(bn, y[0], g.x[0], g.x[1], g.x[2]);  // garment corners to bf
+  const MatrixX3d& GV = garment.V;
+  const MatrixX2i& BE = *g.body_edges;
+  const MatrixX3i& BFE = *g.body_face_edges;
   EdgeFaceHit hit;
   for (int k = 0; k < 3; ++k) {
-    const int ge = topo.face_edges(gf, k);
-    const int ga = topo.edges(ge, 0), gb = topo.edges(ge, 1);
-    if (crossesPlane(side(sx, GF, gf, ga), side(sx, GF, gf, gb)) &&
-        segmentCrossesTriangle(row(GV, ga), row(GV, gb), y[0], y[1], y[2], &hit))
-      out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
+    const int next = k == 2 ? 0 : k + 1;
+    if (crossesPlane(sx[k], sx[next])) {
+      const int ge = topo.face_edges(g.gf, k);
+      const int ga = topo.edges(ge, 0), gb = topo.edges(ge, 1);
+      if (segmentCrossesTriangle(row(GV, ga), row(GV, gb), y[0], y[1], y[2], &hit))
+        out.garment_edges.push_back({ge, bf, hit.t, hit.bary, hit.sa, hit.sb});
+    }
+    // A body edge through gf passes through both of its faces' boxes, and so through gf's: both
+    // pairs are visited, and the edge is tested from its first face alone (the same crossings).
     const int be = BFE(bf, k);
-    const int ba = BE(be, 0), bb = BE(be, 1);
-    if (crossesPlane(side(sy, BF, bf, ba), side(sy, BF, bf, bb)) &&
-        segmentCrossesTriangle(row(BV, ba), row(BV, bb), x[0], x[1], x[2], &hit))
-      out.body_edges.push_back({be, gf, hit.t, hit.bary, hit.sa, hit.sb});
+    if ((*g.body_edge_first_face)[static_cast<std::size_t>(be)] == bf && crossesPlane(sy[k], sy[next])) {
+      const int ba = BE(be, 0), bb = BE(be, 1);
+      if (segmentCrossesTriangle(row(BV, ba), row(BV, bb), g.x[0], g.x[1], g.x[2], &hit))
+        out.body_edges.push_back({be, g.gf, hit.t, hit.bary, hit.sa, hit.sb});
+    }
   }
 }
 
@@ -111,6 +123,9 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
                  CandidateCache* cache = nullptr, std::size_t* reused = nullptr) {
   const MatrixX3d& GV = garment.V;
   const MatrixX3i& GF = garment.F;
+  const MatrixX2i& BE = body.edges();
+  const MatrixX3i& BFE = body.faceEdges();
+  const std::vector<int>& BEF = body.edgeFirstFaces();
   for (int i = first; i < last; ++i) {
     const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
     Eigen::Vector3d lo = row(GV, GF(gf, 0)), hi = lo;
@@ -118,10 +133,15 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
       lo = lo.cwiseMin(row(GV, GF(gf, k)));
       hi = hi.cwiseMax(row(GV, GF(gf, k)));
     }
-    const Eigen::Vector3d x0 = row(GV, GF(gf, 0));
-    const Eigen::Vector3d gn = (row(GV, GF(gf, 1)) - x0).cross(row(GV, GF(gf, 2)) - x0);
-    const double gm = kPlaneMargin * gn.norm();
-    auto test = [&](int bf) { testFacePair(body, garment, topo, bf, gf, gn, gm, out); };
+    GarmentFaceContext g;
+    g.gf = gf;
+    for (int k = 0; k < 3; ++k) g.x[k] = row(GV, GF(gf, k));
+    g.gn = (g.x[1] - g.x[0]).cross(g.x[2] - g.x[0]);
+    g.gm = kPlaneMargin * g.gn.norm();
+    g.body_edges = &BE;
+    g.body_face_edges = &BFE;
+    g.body_edge_first_face = &BEF;
+    auto test = [&](int bf) { testFacePair(body, garment, topo, bf, g, out); };
     if (!cache) {
       tree.overlapping(lo, hi, test);
       continue;

@@ -44,6 +44,9 @@ class Body {
   // #E by 3: unit mean of the normals of the faces incident to each edge (outward direction at a
   // ridge or a valley).
   const MatrixX3d& edgeNormals() const { buildAdjacency(); return edge_normals_; }
+  // Per edge: the lowest-numbered face that has it (a detection tests each edge from that face
+  // alone, where both of its faces are visited).
+  const std::vector<int>& edgeFirstFaces() const { buildAdjacency(); return edge_first_face_; }
   bool adjacencyBuilt() const { return adjacency_built_; }
   // The faces round each vertex (vertex v: vertexFaces()[vertexFaceStart()[v] ..
   // vertexFaceStart()[v + 1]), facesRoundVertices of mesh.h) and #V by 3 unit vertex normals
@@ -75,6 +78,7 @@ class Body {
   void buildAdjacency() const;
   void buildVertexAdjacency() const;
   void computeEdgeNormals() const;
+  void computeEdgeFirstFaces() const;
   void computeFrameGeometry();
   void adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
                   std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees);
@@ -86,6 +90,7 @@ class Body {
   mutable MatrixX2i edges_;
   mutable MatrixX3i face_edges_;
   mutable MatrixX3d edge_normals_;
+  mutable std::vector<int> edge_first_face_;
   mutable std::once_flag vertex_adjacency_once_;
   mutable std::vector<int> vertex_face_start_, vertex_faces_;
   mutable MatrixX3d vertex_normals_;
