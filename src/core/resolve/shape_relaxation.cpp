@@ -304,8 +304,7 @@ class ShapeRelaxation {
     parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread, [this](int first, int last) {
       for (int i = first; i < last; ++i) fitRotation(active_[static_cast<std::size_t>(i)]);
     });
-    parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread,
-                   [this](int first, int last) { turnEdges(first, last); });
+    turnEdges(0, static_cast<int>(active_.size()));
     rep_.seconds_rotations += seconds(t0);
   }
 
@@ -503,16 +502,32 @@ class ShapeRelaxation {
   // faces_: the faces round `vertices` that may come within `margin` of the body, sorted.
   void facesAround(const std::vector<int>& vertices, double margin) {
     faces_.clear();
-    face_mark_.resize(static_cast<std::size_t>(g_.F.rows()), 0);
+    const std::size_t nf = static_cast<std::size_t>(g_.F.rows());
+    face_mark_.resize(nf, 0);
+    std::size_t marked = 0;
     for (int v : vertices)
       for (int i = graph_.vf_start[v]; i < graph_.vf_start[v + 1]; ++i)
         if (!face_mark_[graph_.vf[i]]) {
           face_mark_[graph_.vf[i]] = 1;
-          faces_.push_back(graph_.vf[i]);
+          ++marked;
         }
-    for (int f : faces_) face_mark_[f] = 0;
+    // In face order: a scan of the marks when many are marked, else a sort of the few.
+    if (marked * 16 > nf) {
+      for (std::size_t f = 0; f < nf; ++f)
+        if (face_mark_[f]) {
+          face_mark_[f] = 0;
+          faces_.push_back(static_cast<int>(f));
+        }
+    } else {
+      for (int v : vertices)
+        for (int i = graph_.vf_start[v]; i < graph_.vf_start[v + 1]; ++i)
+          if (face_mark_[graph_.vf[i]]) {
+            face_mark_[graph_.vf[i]] = 0;
+            faces_.push_back(graph_.vf[i]);
+          }
+      std::sort(faces_.begin(), faces_.end());
+    }
     faces_.erase(std::remove_if(faces_.begin(), faces_.end(), [&](int f) { return clearOfBody(f, margin); }), faces_.end());
-    std::sort(faces_.begin(), faces_.end());
   }
 
   // The face clearances (face_clearance.h) of the faces round the active vertices, each a contact
