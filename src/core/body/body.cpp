@@ -43,6 +43,7 @@ Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mes
   checkFrameSize(previous.mesh_.V.rows(), mesh_.V.rows());
   topology_ = previous.topology_;
   // previous's lists (built now if they were not) and a copy of its trees
+  edge_first_face_ = previous.edgeFirstFaces();
   adoptFrame(previous.edges(), previous.faceEdges(), previous.vertexFaceStart(), previous.vertexFaces(),
              previous.bvh_built_ ? previous.bvh_->copy() : nullptr);
 }
@@ -54,6 +55,7 @@ Body::Body(Body&& previous, MatrixX3d V) {
   mesh_.F = std::move(previous.mesh_.F);
   mesh_.V = std::move(V);
   topology_ = std::move(previous.topology_);
+  edge_first_face_ = std::move(previous.edge_first_face_);
   adoptFrame(std::move(previous.edges_), std::move(previous.face_edges_), std::move(previous.vertex_face_start_),
              std::move(previous.vertex_faces_), previous.bvh_built_ ? std::move(previous.bvh_) : nullptr);
   previous.bvh_built_ = false;
@@ -69,7 +71,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
     face_edges_ = std::move(faceEdges);
     computeFrameGeometry();
     computeEdgeNormals();
-    computeEdgeFirstFaces();
+    if (edge_first_face_.size() != static_cast<std::size_t>(edges_.rows())) computeEdgeFirstFaces();
     adjacency_built_ = true;
   });
   std::call_once(vertex_adjacency_once_, [&] {
