@@ -75,7 +75,7 @@ std::vector<char> classifyInside(const Body& body, const TriMesh& garment, const
 // Re-detects only around the faces in `dirty`: crossings of untouched edges and faces stay.
 void updateCrossings(const Body& body, const TriMesh& garment, const GarmentTopology& topo,
                      const std::vector<int>& dirty, std::vector<char>& dirtyFace,
-                     std::vector<char>& dirtyEdge, CrossingSet& crossings) {
+                     std::vector<char>& dirtyEdge, CrossingSet& crossings, CandidateCache& candidates) {
   for (int f : dirty) {
     dirtyFace[f] = 1;
     for (int k = 0; k < 3; ++k) dirtyEdge[topo.face_edges(f, k)] = 1;
@@ -93,7 +93,7 @@ void updateCrossings(const Body& body, const TriMesh& garment, const GarmentTopo
     for (int k = 0; k < 3; ++k) dirtyEdge[topo.face_edges(f, k)] = 0;
   }
   CrossingSet fresh;
-  detectCrossings(body, garment, topo, fresh, &dirty);
+  detectCrossings(body, garment, topo, fresh, &dirty, candidates);
   ge.insert(ge.end(), fresh.garment_edges.begin(), fresh.garment_edges.end());
   be.insert(be.end(), fresh.body_edges.begin(), fresh.body_edges.end());
 }
@@ -171,7 +171,7 @@ ResolverRun::ResolverRun(const Body& body, TriMesh& garment, const ResolverParam
 // The first full detection, the inside flags before any move, and the trace's iteration 0.
 void ResolverRun::detect() {
   double t0 = clock_.now();
-  detectCrossings(body_, garment_, topo_, crossings_);
+  detectCrossings(body_, garment_, topo_, crossings_, nullptr, candidates_);
   rep_.seconds_detection += clock_.now() - t0;
   rep_.garment_edge_crossings_before = crossings_.garment_edges.size();
   rep_.body_edge_crossings_before = crossings_.body_edges.size();
@@ -281,7 +281,7 @@ void ResolverRun::redetectFaces() {
       }
   for (int f : dirty_) faceMark_[f] = 0;
   std::sort(dirty_.begin(), dirty_.end());
-  updateCrossings(body_, garment_, topo_, dirty_, dirtyFace_, dirtyEdge_, crossings_);
+  updateCrossings(body_, garment_, topo_, dirty_, dirtyFace_, dirtyEdge_, crossings_, candidates_);
 }
 
 // The moved vertices' inside flags: from a neighbour that did not move, across the crossings of
@@ -628,7 +628,7 @@ bool ResolverRun::relaxShape() {
   if (params_.body_uncertainty > 0 && relaxation.face_clearance == 0) relaxation.face_clearance = d_;
   const double t0 = clock_.now();
   rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
-  rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation);
+  rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation, &candidates_);
   rep_.relaxed = true;
   rep_.seconds_relaxation = clock_.now() - t0;
   return true;

@@ -64,9 +64,11 @@ struct GarmentGraph {
 
 // The shape relaxation (shape_relaxation.h) over a run's garment graph, so the run does not build
 // the graph a second time.
+// `candidates`, when given: the run's candidate cache (the faces' body faces found by the rounds'
+// detections, reused by the relaxation's checks while a face stays in its box).
 ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
                                  const GarmentTopology& topo, const GarmentGraph& graph, double clearance,
-                                 const ShapeRelaxationParams& params);
+                                 const ShapeRelaxationParams& params, CandidateCache* candidates = nullptr);
 
 class ResolverRun {
  public:
@@ -146,6 +148,9 @@ class ResolverRun {
   const bool insideTest_;
 
   CrossingSet crossings_;
+  // Each garment face's candidate body faces, kept by every detection of the run and the
+  // relaxation's checks (intersections.h): the same crossings, fewer box-tree queries.
+  CandidateCache candidates_;
   // Inside flags before any move, and per piece how many of its vertices are inside. A vertex that
   // never moves keeps its flag; after a round only the moved vertices are classified again, from
   // a neighbour across the crossings of the edge between them (or one ray test for a region

@@ -36,9 +36,11 @@ constexpr double kMinContactWeight = 0.25;
 class ShapeRelaxation {
  public:
   ShapeRelaxation(const Body& body, const TriMesh& input, TriMesh& garment, const GarmentTopology& topo,
-                  const resolver_run::GarmentGraph& graph, double clearance, const ShapeRelaxationParams& params)
+                  const resolver_run::GarmentGraph& graph, double clearance, const ShapeRelaxationParams& params,
+                  CandidateCache* candidates)
       : body_(body), in_(input), g_(garment), topo_(topo), d_(clearance), p_(params),
-        nv_(static_cast<int>(garment.V.rows())), graph_(graph) {}
+        nv_(static_cast<int>(garment.V.rows())), graph_(graph), candidates_(candidates ? *candidates : own_candidates_),
+        reused_before_(candidates_.reused), queried_before_(candidates_.queried) {}
 
   ShapeRelaxationReport run() {
     const auto t0 = Clock::now();
@@ -85,8 +87,8 @@ class ShapeRelaxation {
     }
     rep_.active_vertices = active_.size();
     rep_.contacts = contacts_.size();
-    rep_.faces_checked = candidates_.reused + candidates_.queried;
-    rep_.candidates_reused = candidates_.reused;
+    rep_.candidates_reused = candidates_.reused - reused_before_;
+    rep_.faces_checked = rep_.candidates_reused + (candidates_.queried - queried_before_);
     rep_.seconds = seconds(t0);
     return rep_;
   }
@@ -579,7 +581,6 @@ class ShapeRelaxation {
   };
   std::vector<Contact> contacts_;
   std::unordered_set<long long> contact_keys_;
-  CandidateCache candidates_;  // each checked face's body faces, reused while it stays in its box
 
   const Body& body_;
   const TriMesh& in_;
@@ -590,6 +591,9 @@ class ShapeRelaxation {
   const int nv_;
   ShapeRelaxationReport rep_;
   const resolver_run::GarmentGraph& graph_;  // faces round each vertex, neighbours over edges
+  CandidateCache own_candidates_;  // used when the caller has no cache to lend
+  CandidateCache& candidates_;     // each checked face's body faces, reused while it stays in its box
+  const std::size_t reused_before_, queried_before_;  // the cache's counts when the stage began
   std::vector<int> active_, faces_;
   std::vector<char> active_flag_, moved_, stepping_, face_mark_;
   std::vector<double> floor_;
@@ -617,15 +621,15 @@ ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh
                                  const GarmentTopology& topo, double clearance,
                                  const ShapeRelaxationParams& params) {
   const resolver_run::GarmentGraph graph(garment, topo);
-  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params).run();
+  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params, nullptr).run();
 }
 
 namespace resolver_run {
 
 ShapeRelaxationReport relaxShape(const Body& body, const TriMesh& input, TriMesh& garment,
                                  const GarmentTopology& topo, const GarmentGraph& graph, double clearance,
-                                 const ShapeRelaxationParams& params) {
-  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params).run();
+                                 const ShapeRelaxationParams& params, CandidateCache* candidates) {
+  return ShapeRelaxation(body, input, garment, topo, graph, clearance, params, candidates).run();
 }
 
 }  // namespace resolver_run
