@@ -241,25 +241,26 @@ std::vector<std::pair<std::pair<int, int>, Eigen::Index>> sortedFaceSides(const 
   const Eigen::Index nf = F.rows();
   std::vector<std::pair<std::pair<int, int>, Eigen::Index>> half(static_cast<std::size_t>(3 * nf));
   if (nf == 0) return half;
+  auto side = [&F](Eigen::Index f, int k) {
+    const int a = F(f, k), b = F(f, (k + 1) % 3);
+    return std::make_pair(std::make_pair(std::min(a, b), std::max(a, b)), 3 * f + k);
+  };
   const int lowest = F.minCoeff(), highest = F.maxCoeff();
   if (lowest < 0 || static_cast<long long>(highest) - lowest > 16 * static_cast<long long>(half.size()) + 1024) {
     for (Eigen::Index f = 0; f < nf; ++f)  // indices out of a sane range: a plain sort
-      for (int k = 0; k < 3; ++k) {
-        const int a = F(f, k), b = F(f, (k + 1) % 3);
-        half[static_cast<std::size_t>(3 * f + k)] = {{std::min(a, b), std::max(a, b)}, 3 * f + k};
-      }
+      for (int k = 0; k < 3; ++k) half[static_cast<std::size_t>(3 * f + k)] = side(f, k);
     std::sort(half.begin(), half.end());
     return half;
   }
   std::vector<int> start(static_cast<std::size_t>(highest - lowest) + 2, 0);
   for (Eigen::Index f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(std::min(F(f, k), F(f, (k + 1) % 3)) - lowest) + 1];
+    for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(side(f, k).first.first - lowest) + 1];
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   std::vector<int> fill(start.begin(), start.end() - 1);
   for (Eigen::Index f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      half[static_cast<std::size_t>(fill[static_cast<std::size_t>(std::min(a, b) - lowest)]++)] = {{std::min(a, b), std::max(a, b)}, 3 * f + k};
+      const auto s = side(f, k);
+      half[static_cast<std::size_t>(fill[static_cast<std::size_t>(s.first.first - lowest)]++)] = s;
     }
   for (std::size_t i = 0; i + 1 < start.size(); ++i)
     std::stable_sort(half.begin() + start[i], half.begin() + start[i + 1],

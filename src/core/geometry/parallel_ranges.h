@@ -11,12 +11,16 @@
 
 namespace virtual_tryon {
 
+// The threads a loop may use: one per hardware thread, at most 8.
+inline int workerThreads() {
+  constexpr unsigned kMaxThreads = 8;
+  return static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads)));
+}
+
 // Calls body(first, last) on disjoint sub-ranges covering [0, n), the first on the calling thread.
 template <class Body>
 void parallelRanges(int n, int min_per_thread, Body&& body) {
-  constexpr unsigned kMaxThreads = 8;
-  const unsigned hw = std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads));
-  const int threads = std::max(1, std::min(static_cast<int>(hw), n / std::max(1, min_per_thread)));
+  const int threads = std::max(1, std::min(workerThreads(), n / std::max(1, min_per_thread)));
   if (threads == 1) {
     if (n > 0) body(0, n);
     return;
@@ -37,9 +41,7 @@ void parallelRanges(int n, int min_per_thread, Body&& body) {
 // the threads evenly. For independent items: each writes its own result.
 template <class Item>
 void parallelItems(int n, int min_items, Item&& item) {
-  constexpr unsigned kMaxThreads = 8;
-  const unsigned hw = std::max(1u, std::min(std::thread::hardware_concurrency(), kMaxThreads));
-  const int threads = n < std::max(2, min_items) ? 1 : std::min(static_cast<int>(hw), n);
+  const int threads = n < std::max(2, min_items) ? 1 : std::min(workerThreads(), n);
   if (threads == 1) {
     for (int i = 0; i < n; ++i) item(i);
     return;

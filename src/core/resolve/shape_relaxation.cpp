@@ -48,7 +48,7 @@ class ShapeRelaxation {
     setFloors();
     for (int v : active_) start_[v] = checked_[v] = g_.V.row(v);
     turned_.resize(graph_.adj_v.size());
-    turnEdges(0, static_cast<int>(active_.size()));
+    turnEdges();
     rep_.seconds_setup = seconds(t0);
     const int perCheck = std::max(1, p_.sweeps_per_check);
     for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
@@ -286,9 +286,8 @@ class ShapeRelaxation {
   // turned_: for each active vertex v and neighbour j, the input edge vector x0_v - x0_j turned by
   // the mean of both ends' rotations (as it is, without local rotations); kept between rotation
   // fits, so that a sweep only adds.
-  void turnEdges(int first, int last) {
-    for (int k = first; k < last; ++k) {
-      const int v = active_[static_cast<std::size_t>(k)];
+  void turnEdges() {
+    for (int v : active_) {
       const Eigen::Vector3d x0 = in_.V.row(v).transpose();
       for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i) {
         const int j = graph_.adj_v[i];
@@ -306,7 +305,7 @@ class ShapeRelaxation {
     parallelRanges(static_cast<int>(active_.size()), kRotationsPerThread, [this](int first, int last) {
       for (int i = first; i < last; ++i) fitRotation(active_[static_cast<std::size_t>(i)]);
     });
-    turnEdges(0, static_cast<int>(active_.size()));
+    turnEdges();
     rep_.seconds_rotations += seconds(t0);
   }
 
