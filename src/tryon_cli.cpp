@@ -124,7 +124,7 @@ std::string usage() {
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
          "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
-         "                [--relax-compression C] [--no-resolve-relaxed] [drape options]\n"
+         "                [--relax-compression C] [--no-resolve-relaxed] [--no-carry] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
@@ -161,7 +161,7 @@ struct Usage : std::runtime_error {
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
                                       "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
-                                      "no-resolve-relaxed"};
+                                      "no-resolve-relaxed", "no-carry"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -638,6 +638,7 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
       .add("strain_stepped", r.strain_stepped)
       .add("relax_passes", r.relax_passes)
       .add("resolved_relaxed", r.resolved_relaxed)
+      .add("carried_with_skin", r.carried)
       .add("max_speed_m_s", r.max_speed);
   if (r.resolver_run)
     line.add("crossings_before", r.resolver.garment_edge_crossings_before + r.resolver.body_edge_crossings_before)
@@ -674,6 +675,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.top_view = !opt.count("no-top-view");
   wp.skin_velocity = !opt.count("no-skin-velocity");
   wp.resolve_relaxed = !opt.count("no-resolve-relaxed");
+  wp.carry_with_skin = !opt.count("no-carry");
   wp.side_view = opt.count("side-view") > 0;
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
@@ -697,7 +699,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   result.sample_rate = bodyCache.sample_rate;
   result.samples.push_back(worn.garment().V);
   save(outs.first, worn.garment());
-  std::size_t notConverged = dressed.converged ? 0 : 1, refereeDirty = 0, gridRebuilt = 0;
+  std::size_t notConverged = dressed.converged ? 0 : 1, refereeDirty = 0, gridRebuilt = 0, carried = 0;
   double strainMax = 0;
   std::vector<double> ms;
   std::string failure;
@@ -716,6 +718,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
       strainMax = std::max(strainMax, r.strain_max);
       if (!r.converged) ++notConverged;
       if (r.grid_rebuilt) ++gridRebuilt;
+      if (r.carried) ++carried;
       if (check) {
         const vt::ReferenceCounts c = vt::referenceCounts(body->mesh(), worn.garment(), body->closed());
         if (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) ++refereeDirty;
@@ -733,6 +736,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
       .add("not_converged", notConverged)
       .add("strain_max", strainMax)
       .add("grids_rebuilt", gridRebuilt)
+      .add("frames_carried_with_skin", carried)
       .add("drape_ms", dressMs)
       .add("failure", failure);
   if (check) summary.add("frames_with_referee_findings", refereeDirty);
@@ -826,7 +830,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

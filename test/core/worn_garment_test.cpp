@@ -168,3 +168,49 @@ TEST(WornGarment, ASpikedFrameIsRelaxedResolvedAgainAndKeptWhenLessStrained) {
   const double vertexStrain = *std::max_element(relaxed.vertexStrain().begin(), relaxed.vertexStrain().end());
   EXPECT_NEAR(vertexStrain, b.strain_max, 1e-12);
 }
+
+// A body that leaps further in one frame than the steps can follow: the steps' correction cannot
+// undo it, and the last clean cloth carried with the skin (each node as its nearest body vertex
+// moved) is corrected instead. Without the fallback the frame is left crossed.
+TEST(WornGarment, AFrameTheStepsCannotFollowIsCarriedWithTheSkin) {
+  ProceduralAnimationParams ap;
+  ap.frames = 2;
+  const ProceduralAnimation anim = makeProceduralAnimation(ap);
+  const Body first(TriMesh{anim.body_frames[0], anim.body.F});
+  MatrixX3d leapt = anim.body_frames[0];
+  leapt.col(0).array() += 0.12;  // m in 1/30 s, sideways
+  leapt.col(2).array() += 0.05;
+  const Body away(first, leapt);
+  WornGarmentParams off = wornParams();
+  off.carry_with_skin = false;
+  WornGarment plain(off), carried(wornParams());
+  ASSERT_TRUE(plain.dress(first, proceduralPattern("sleeveless_shirt.yaml")).success);
+  ASSERT_TRUE(carried.dress(first, proceduralPattern("sleeveless_shirt.yaml")).success);
+  const WornFrameReport a = plain.follow(away, 1.0 / 30);
+  const WornFrameReport b = carried.follow(away, 1.0 / 30);
+  ASSERT_TRUE(a.success) << a.message;
+  ASSERT_TRUE(b.success) << b.message;
+  std::printf("leap: steps' correction %s (%zu crossings left); carried %s (%s), strain %.3f\n",
+              a.resolver.converged ? "converged" : "failed",
+              a.resolver.garment_edge_crossings_after + a.resolver.body_edge_crossings_after,
+              b.carried ? (b.carried_whole ? "whole" : "around the crossings") : "no", b.message.c_str(), b.strain_max);
+  const ReferenceReferee referee(away.mesh());
+  const ReferenceCounts ca = referee.count(plain.garment()), cb = referee.count(carried.garment());
+  // The premise: the steps alone leave the leapt body crossed.
+  ASSERT_FALSE(a.resolver.converged);
+  ASSERT_GT(ca.garment_edge_crossings + ca.body_edge_crossings + ca.vertices_inside, 0u);
+  ASSERT_TRUE(b.carried) << b.message;
+  EXPECT_EQ(b.carried_from, 1);
+  EXPECT_FALSE(b.stepped_resolver.converged);
+  EXPECT_EQ(cb.garment_edge_crossings + cb.body_edge_crossings + cb.vertices_inside, 0u);
+  EXPECT_NE(b.message.find("carried with the skin"), std::string::npos) << b.message;
+  EXPECT_LT(b.strain_max, 0.3);
+  // The next frame goes on from the carried cloth.
+  MatrixX3d further = leapt;
+  further.col(0).array() += 0.002;
+  const Body next(away, further);
+  const WornFrameReport c = carried.follow(next, 1.0 / 30);
+  ASSERT_TRUE(c.success) << c.message;
+  const ReferenceCounts cc = ReferenceReferee(next.mesh()).count(carried.garment());
+  EXPECT_EQ(cc.garment_edge_crossings + cc.body_edge_crossings + cc.vertices_inside, 0u) << c.message;
+}

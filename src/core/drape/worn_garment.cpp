@@ -1,6 +1,8 @@
 #include "virtual_tryon/core/drape/worn_garment.h"
 
 #include "core/drape/collision_response.h"
+#include "virtual_tryon/core/geometry/point_queries.h"
+#include "virtual_tryon/core/resolve/intersections.h"
 
 #include <algorithm>
 #include <chrono>
@@ -156,6 +158,9 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   strain_.clear();
   maps_ = FrameMaps();
   body_V_.resize(0, 3);
+  clean_V_.resize(0, 3);
+  clean_body_V_.resize(0, 3);
+  frames_since_clean_ = 0;
   if (params_.drape.mode != CollisionMode::ImageSpace) {
     DrapeResult r;
     r.message = "a worn garment steps in image space: drape mode must be image space";
@@ -165,10 +170,10 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
       params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1) ||
       params_.relax_passes < 0 || params_.relax_passes > 1000 ||
       !(params_.relax_compression >= 0 && params_.relax_compression < 1) || params_.step_halvings < 0 ||
-      params_.step_halvings > 8) {
+      params_.step_halvings > 8 || params_.carry_rings < 0 || params_.carry_rings > 1000) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
-                "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8)";
+                "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8, carry_rings 0 .. 1000)";
     return r;
   }
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
@@ -185,6 +190,8 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   }
   maps_ = renderMaps(body, nullptr);
   body_V_ = body.mesh().V;
+  clean_V_ = garment_.V;
+  clean_body_V_ = body_V_;
   // Each frame's resolve keeps the drape's final-resolve settings: edges past the polish strain
   // against the cloth as stepped, and every structural spring within its rest bound.
   frame_resolver_ = params_.drape.resolver;
@@ -321,6 +328,97 @@ void WornGarment::resolveRelaxed(const Body& body, WornFrameReport& rep) {
   cloth.positions() = garment_.V;
 }
 
+namespace {
+
+// Per cloth node, a weight 1 within `inner` rings of edges of the vertices of the crossings left
+// in `garment`, falling linearly to 0 at `outer` rings; all 1 when none are found.
+std::vector<double> weightsAroundCrossings(const Body& body, const TriMesh& garment, int inner, int outer) {
+  const GarmentTopology topo(garment);
+  CrossingSet left;
+  detectCrossings(body, garment, topo, left);
+  const std::size_t n = static_cast<std::size_t>(garment.V.rows());
+  std::vector<int> ring(n, -1);
+  std::vector<int> queue;
+  auto seed = [&](int v) {
+    if (ring[static_cast<std::size_t>(v)] < 0) ring[static_cast<std::size_t>(v)] = 0, queue.push_back(v);
+  };
+  for (const EdgeFaceCrossing& c : left.garment_edges) seed(topo.edges(c.edge, 0)), seed(topo.edges(c.edge, 1));
+  for (const EdgeFaceCrossing& c : left.body_edges)
+    for (int k = 0; k < 3; ++k) seed(garment.F(c.face, k));
+  if (queue.empty()) return std::vector<double>(n, 1.0);
+  std::vector<std::vector<int>> adj(n);
+  for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
+    adj[static_cast<std::size_t>(topo.edges(e, 0))].push_back(topo.edges(e, 1));
+    adj[static_cast<std::size_t>(topo.edges(e, 1))].push_back(topo.edges(e, 0));
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int u = queue[head];
+    if (ring[static_cast<std::size_t>(u)] >= outer) continue;
+    for (int v : adj[static_cast<std::size_t>(u)])
+      if (ring[static_cast<std::size_t>(v)] < 0) ring[static_cast<std::size_t>(v)] = ring[static_cast<std::size_t>(u)] + 1, queue.push_back(v);
+  }
+  std::vector<double> w(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (ring[i] >= 0) w[i] = ring[i] <= inner ? 1.0 : std::max(0.0, double(outer - ring[i]) / double(outer - inner));
+  return w;
+}
+
+}  // namespace
+
+// The steps' correction failed. The cloth of the last clean frame, each node moved as its nearest
+// body vertex moved since then, is the fallback; first only around what the correction left
+// crossed (the steps' cloth elsewhere), then, if that does not converge, everywhere. Each is
+// corrected as a frame's steps are; the first that converges is kept. Otherwise everything is put
+// back as the steps' correction left it.
+void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3d& steppedX, WornFrameReport& rep) {
+  ClothState& cloth = *cloth_;
+  const MatrixX3d& V = next.mesh().V;
+  if (clean_V_.rows() != cloth.positions().rows() || steppedX.rows() != clean_V_.rows() ||
+      clean_body_V_.rows() != V.rows() || frames_since_clean_ < 1)
+    return;
+  const std::vector<int> bound = nearestVertices(clean_body_V_, clean_V_);
+  MatrixX3d carried = clean_V_;
+  for (Eigen::Index i = 0; i < carried.rows(); ++i) {
+    const int b = bound[static_cast<std::size_t>(i)];
+    if (b >= 0) carried.row(i) += V.row(b) - clean_body_V_.row(b);
+  }
+  const MatrixX3d skinVelocity = (carried - clean_V_) / (seconds * frames_since_clean_);
+  const std::vector<double> w = weightsAroundCrossings(next, garment_, params_.carry_rings, 2 * params_.carry_rings);
+  const MatrixX3d x = cloth.positions(), v = cloth.velocities();
+  const TriMesh failed = garment_;
+  const std::vector<double> failedStrain = strain_;
+  double resolveSeconds = rep.seconds_resolve;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    WornFrameReport again = rep;
+    again.relax_passes = 0;
+    again.resolved_relaxed = false;
+    again.resolver = ResolverReport();
+    again.relaxed_resolver = ResolverReport();
+    for (Eigen::Index i = 0; i < carried.rows(); ++i) {
+      const double wi = attempt == 0 ? w[static_cast<std::size_t>(i)] : 1.0;
+      cloth.positions().row(i) = steppedX.row(i) + wi * (carried.row(i) - steppedX.row(i));
+      cloth.velocities().row(i) = (1 - wi) * v.row(i) + wi * skinVelocity.row(i);
+    }
+    resolveFrame(next, again);
+    resolveSeconds += again.seconds_resolve;
+    if (frameClean(again)) {
+      again.carried = true;
+      again.carried_whole = attempt == 1;
+      again.carried_from = frames_since_clean_;
+      again.stepped_resolver = rep.resolver;
+      again.strain_stepped = rep.strain_stepped;
+      again.seconds_resolve = resolveSeconds;
+      rep = std::move(again);
+      return;
+    }
+  }
+  cloth.positions() = x;
+  cloth.velocities() = v;
+  garment_ = failed;
+  strain_ = failedStrain;
+  rep.seconds_resolve = resolveSeconds;
+}
+
 WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   const auto t0 = Clock::now();
   WornFrameReport rep;
@@ -370,7 +468,15 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   maps_ = std::move(to);
   body_V_ = next.mesh().V;
   rep.success = true;
+  const MatrixX3d steppedX = cloth_->positions();
   resolveFrame(next, rep);
+  ++frames_since_clean_;
+  if (params_.resolve && params_.carry_with_skin && !frameClean(rep)) carryWithSkin(next, seconds, steppedX, rep);
+  if (frameClean(rep)) {
+    clean_V_ = garment_.V;
+    clean_body_V_ = body_V_;
+    frames_since_clean_ = 0;
+  }
   const double maxStrain = params_.drape.max_strain;
   const bool withinStrain = !(maxStrain > 0) || rep.strain_max <= maxStrain;
   rep.converged = (!rep.resolver_run || rep.resolver.converged || rep.resolved_relaxed) && withinStrain;
@@ -383,6 +489,12 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
     msg << "; the relaxed cloth resolved again (" << rep.relaxed_resolver.garment_edge_crossings_before +
                                                          rep.relaxed_resolver.body_edge_crossings_before
         << " crossings) and kept";
+  if (rep.carried)
+    msg << "; the steps' correction failed (" << rep.stepped_resolver.garment_edge_crossings_after +
+                                                    rep.stepped_resolver.body_edge_crossings_after
+        << " crossings left): the cloth " << rep.carried_from << (rep.carried_from == 1 ? " frame" : " frames")
+        << " back carried with the skin " << (rep.carried_whole ? "everywhere" : "around them")
+        << " and resolved instead";
   if (rep.resolver_run && !rep.resolver.converged && !rep.resolved_relaxed) msg << "; not converged: resolver: " << rep.resolver.reason;
   if (!withinStrain)
     msg << "; not converged: a spring is stretched by " << num(rep.strain_max) << ", above max_strain " << num(maxStrain);

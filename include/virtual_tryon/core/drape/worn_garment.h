@@ -57,6 +57,17 @@ struct WornGarmentParams {
   // when the resolver converges and leaves it less strained than the first correction did. Off:
   // the returned garment is the first correction, the relaxed cloth only the next frame's start.
   bool resolve_relaxed = true;
+  // When a frame's correction does not converge (the steps let a limb through the cloth: on the
+  // walk, a calf swinging back through a wide trouser leg, past what the resolver can undo), the
+  // cloth as it was on the last frame whose correction converged is carried along with the skin
+  // instead: each node moves as its nearest body vertex moved since that frame. First only within
+  // carry_rings rings of edges of what the correction left crossed (blended back to the steps'
+  // cloth over as many rings again), then, if that does not converge, the whole cloth. Each is
+  // corrected as above (resolver, relaxation, second resolve); the first that converges is kept
+  // and the cloth goes on from it (at the skin's velocity where carried). Off: the frame stays
+  // unresolved and the cloth goes on from there.
+  bool carry_with_skin = true;
+  int carry_rings = 5;
   // A frame whose steps blow up is stepped again from where it began with half the step, at most
   // this many times; then the frame fails (nothing moved).
   int step_halvings = 2;
@@ -83,6 +94,10 @@ struct WornFrameReport {
   int step_halvings = 0;   // times the frame's step was halved after a blow-up
   int relax_passes = 0;    // passes that relaxed the cloth's spikes after the resolver
   bool resolved_relaxed = false;  // the relaxed cloth was resolved again and kept (less strained)
+  bool carried = false;    // the steps' correction failed; the last clean cloth carried with the skin was kept
+  bool carried_whole = false;  // with carried: the whole cloth, not only around the crossings left
+  int carried_from = -1;   // frames back to that clean cloth (1: the frame before)
+  ResolverReport stepped_resolver;  // with carried: the failed correction of the steps
   bool interpolated = false, grid_rebuilt = false;
   std::size_t colliding_nodes = 0;  // the largest count of colliding nodes over the steps
   double strain_max = 0;   // |l / l0 - 1| over structural springs of the returned garment
@@ -131,6 +146,10 @@ class WornGarment {
   bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
   void resolveFrame(const Body& body, WornFrameReport& rep);
   void resolveRelaxed(const Body& body, WornFrameReport& rep);
+  void carryWithSkin(const Body& next, double seconds, const MatrixX3d& steppedX, WornFrameReport& rep);
+  bool frameClean(const WornFrameReport& rep) const {
+    return rep.resolver_run && (rep.resolver.converged || rep.resolved_relaxed);
+  }
 
   WornGarmentParams params_;
   std::optional<ClothState> cloth_;
@@ -141,6 +160,10 @@ class WornGarment {
   double pixel_ = 0;  // m: the grid's pixel side, kept when a new grid is made
   FrameMaps maps_;  // of the frame the cloth is on, on grid_ (and other_grid_)
   MatrixX3d body_V_;  // the body's vertices on that frame
+  // The cloth after the last frame whose correction converged, the body's vertices on it, and the
+  // frames since (carry_with_skin).
+  MatrixX3d clean_V_, clean_body_V_;
+  int frames_since_clean_ = 0;
   ResolverParams frame_resolver_;
 };
 

@@ -3,6 +3,8 @@
 
 #include "virtual_tryon/core/body/body.h"
 
+#include <vector>
+
 namespace virtual_tryon {
 
 struct ClosestPoint {
@@ -22,5 +24,10 @@ ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p);
 // the majority, so a ray grazing an edge or vertex cannot decide alone. Meaningless for an open
 // body (returns false when !body.closed()).
 bool pointInsideBody(const Body& body, const Eigen::Vector3d& p);
+
+// For each row of P (#P by 3), the index of its nearest row of V (#V by 3), through PCL's k-d tree
+// (single precision: a near tie may go either way); -1 when V is empty. For a binding to vertices that need no faces or tree,
+// e.g. the body of a frame already left behind.
+std::vector<int> nearestVertices(const MatrixX3d& V, const MatrixX3d& P);
 
 }  // namespace virtual_tryon
