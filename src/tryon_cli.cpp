@@ -13,6 +13,7 @@
 #include "virtual_tryon/core/drape/pattern_placement.h"
 #include "virtual_tryon/core/drape/pattern_transform.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
+#include "virtual_tryon/core/resolve/temporal_coherence.h"
 #include "virtual_tryon/core/scenes/procedural.h"
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
@@ -111,7 +112,8 @@ std::string usage() {
          "      xvfb-run. drape --render PREFIX writes the same pictures of a drape, coloured by\n"
          "      the strain of its structural springs.\n"
          "  tryon animate resolve --body B.obj --body-cache B.pc2 --garment G.obj --garment-cache G.pc2\n"
-         "                --out OUT.pc2 [--check] [--clearance M] [--max-iterations N] [--objective ...]\n"
+         "                --out OUT.pc2 [--check] [--max-jitter M] [--warm-start] [--clearance M]\n"
+         "                [--max-iterations N] [--objective ...]\n"
          "      Resolves every frame of an animated garment on an animated body (Point Cache 2, in\n"
          "      the rest meshes' vertex order; Sun et al. 2016's garment animation synthesis).\n"
          "      Each frame on its own (history-free). One JSON line per frame (crossings before\n"
@@ -119,6 +121,10 @@ std::string usage() {
          "      a vertex's correction from the frame before, milliseconds), then a summary line.\n"
          "      --check adds the referee's counts per frame. --warm-start starts each frame from its\n"
          "      input moved by the previous frame's correction (still resolved and checked whole).\n"
+         "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
+         "      correction changed by more than M moves towards its previous correction, to a\n"
+         "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
+         "      the body); \"coherence\" in its line says how many were over and how many stayed.\n"
          "      Writes the resolved frames to OUT.pc2.\n"
          "      Exit 0 when every frame converged, 3 otherwise, 2 on bad input.\n"
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
@@ -536,6 +542,11 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   const vt::ResolverParams params = resolverParams(opt);
   const bool check = opt.count("check") > 0;
   const bool warm = opt.count("warm-start") > 0;
+  vt::CoherenceParams coherenceParams;
+  coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
+  if (!(coherenceParams.max_change >= 0 && coherenceParams.max_change <= 1))
+    throw Usage("--max-jitter must be in [0, 1] m (0: off)");
+  std::size_t coherenceCandidates = 0, coherenceHeld = 0;
   vt::PointCache result = garmentCache;
   std::vector<double> ms;
   double jitterMax = 0;
@@ -558,6 +569,17 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     // resolver still checks and fixes it as a whole (each frame is correct on its own).
     if (warm && previousCorrection.rows() == garment.V.rows()) garment.V += previousCorrection;
     const vt::ResolverReport rep = vt::resolvePenetrations(body, garment, params);
+    // Where the correction jumped since the frame before, the clean position nearest to the
+    // previous correction (core/resolve/temporal_coherence.h).
+    vt::CoherenceReport coherence;
+    const bool coherent = coherenceParams.max_change > 0 && rep.converged && previousCorrection.rows() == garment.V.rows();
+    if (coherent) {
+      vt::CoherenceParams cp = coherenceParams;
+      cp.min_clearance = 0.5 * rep.clearance;
+      coherence = vt::limitCorrectionChange(body, garment, garmentCache.samples[f], previousCorrection, cp);
+      coherenceCandidates += coherence.candidates;
+      coherenceHeld += coherence.held + coherence.partly;
+    }
     const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ms.push_back(frameMs);
     const vt::MatrixX3d correction = garment.V - garmentCache.samples[f];
@@ -590,6 +612,15 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         .add("ms", frameMs)
         .add("ms_body", bodyMs)
         .add("ms_resolve", 1e3 * rep.seconds_total);
+    if (coherent)
+      line.json("coherence", vt::json::Obj()
+                                 .add("over_max_jitter", coherence.candidates)
+                                 .add("limited", coherence.limited)
+                                 .add("partly", coherence.partly)
+                                 .add("held", coherence.held)
+                                 .add("jitter_as_resolved_m", coherence.change_before)
+                                 .add("ms", 1e3 * coherence.seconds)
+                                 .str());
     if (check) {
       const vt::ReferenceCounts c = vt::referenceCounts(body.mesh(), garment, body.closed());
       const std::size_t dirty = c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside;
@@ -603,6 +634,9 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   addFrameTimes(summary, ms);
   summary.add("not_converged", notConverged)
       .add("jitter_max_m", jitterMax)
+      .add("max_jitter_m", coherenceParams.max_change)
+      .add("vertices_over_max_jitter", coherenceCandidates)
+      .add("vertices_left_over_max_jitter", coherenceHeld)
       .add("body_trees_refitted", refitted)
       .add("body_trees_built", ms.size() - refitted)
       .add("rebuilt_per_frame", std::string("body normals, bounds, volume"))
@@ -837,7 +871,7 @@ int main(int argc, char** argv) {
         return animateDrape(opt);
       }
       if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
-      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "clearance",
+      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "max-jitter", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);
     }

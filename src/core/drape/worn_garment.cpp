@@ -1,6 +1,7 @@
 #include "virtual_tryon/core/drape/worn_garment.h"
 
 #include "core/drape/collision_response.h"
+#include "core/geometry/parallel_ranges.h"
 #include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/intersections.h"
 
@@ -221,14 +222,22 @@ void WornGarment::viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eige
   }
 }
 
+// The views are rendered side by side on the hardware threads (each view on its own).
 WornGarment::FrameMaps WornGarment::renderMaps(const Body& body, const MatrixX3d* velocity) const {
   FrameMaps m;
-  m.front = velocity ? std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_, *velocity)
-                     : std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+  std::vector<int> views{-1};  // -1: the front pair; k: kOtherViews[k]
   for (std::size_t k = 0; k < kOtherViews.size(); ++k)
-    if (viewOn(k))
-      m.other[k] = std::make_shared<const DepthMaps>(viewMesh(kOtherViews[k], body.mesh()), params_.drape.collision,
-                                                     other_grid_[k]);
+    if (viewOn(k)) views.push_back(static_cast<int>(k));
+  parallelItems(static_cast<int>(views.size()), 2, [&](int i) {
+    const int k = views[static_cast<std::size_t>(i)];
+    if (k < 0)
+      m.front = velocity ? std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_, *velocity)
+                         : std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
+    else
+      m.other[static_cast<std::size_t>(k)] = std::make_shared<const DepthMaps>(
+          viewMesh(kOtherViews[static_cast<std::size_t>(k)], body.mesh()), params_.drape.collision,
+          other_grid_[static_cast<std::size_t>(k)]);
+  });
   return m;
 }
 
