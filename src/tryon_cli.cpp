@@ -673,6 +673,7 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
       .add("relax_passes", r.relax_passes)
       .add("resolved_relaxed", r.resolved_relaxed)
       .add("carried_with_skin", r.carried)
+      .add("carried_for_strain", r.carried_for_strain)
       .add("max_speed_m_s", r.max_speed);
   if (r.resolver_run)
     line.add("crossings_before", r.resolver.garment_edge_crossings_before + r.resolver.body_edge_crossings_before)

@@ -3,6 +3,7 @@
 #include "virtual_tryon/core/drape/pattern_transform.h"
 #include "virtual_tryon/core/geometry/rigid_transform.h"
 #include "virtual_tryon/core/io/report_summary.h"
+#include "virtual_tryon/core/resolve/temporal_coherence.h"
 #include "virtual_tryon/ros/conversions.h"
 #include "virtual_tryon/ros/report_conversions.h"
 
@@ -14,6 +15,7 @@
 #include <map>
 #include <cstdio>
 #include <exception>
+#include <sstream>
 #include <utility>
 
 namespace virtual_tryon {
@@ -164,6 +166,7 @@ void TryonNode::readParameters() {
   settings_.tf_timeout = readDouble(pnh_, "tf_timeout", 0.5, false);
   pnh_.param("body_frame", settings_.body_frame, std::string());
   pnh_.param("auto_fit", settings_.auto_fit, false);
+  settings_.max_jitter = readDouble(pnh_, "max_jitter", settings_.max_jitter, false);
   const ScanMeshingParams sd;
   settings_.scan.voxel_size = readDouble(pnh_, "scan/voxel_size", sd.voxel_size, false);
   settings_.scan.normal_neighbours = readCount(pnh_, "scan/normal_neighbours", sd.normal_neighbours);
@@ -352,13 +355,16 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
 
   const MatrixX3d before = garment.V;
   const ResolverReport report = resolvePenetrations(*body.body, garment, params);
+  const std::string coherence = isEmpty(req.body) && isEmpty(req.garment) && body.series != 0
+                                    ? keepCoherent(body, garment, before, report.converged, report.clearance)
+                                    : std::string();
 
   const std_msgs::Header header = fitHeader(body);
   rc::toMsg(garment, header, res.garment);
   res.report = rc::toMsg(report);
   res.report.body = body.report;
   res.success = report.converged;
-  res.message = resolveSummary(report) + warnings;
+  res.message = resolveSummary(report) + coherence + warnings;
   ROS_INFO("tryon_node: resolve: crossings before %zu+%zu, after %zu+%zu (garment+body edges), "
            "%d iterations, %.3f s, %s",
            report.garment_edge_crossings_before, report.body_edge_crossings_before,
@@ -381,6 +387,34 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   const std::vector<double> strain = vertexEdgeStrain(input, garment.V);
   publishMarkers(body.body->mesh(), body.frame, &garment, &before, &strain);
   return true;
+}
+
+// The topics' garment resolved on a later frame of the body it was last resolved on: where a
+// vertex's correction jumped since then, the clean position nearest to the last correction
+// (limitCorrectionChange). Remembers this fit's correction for the next frame. Returns what it did
+// for the message ("" when it did nothing).
+std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, const MatrixX3d& input, bool converged,
+                                    double clearance) {
+  std::lock_guard<std::mutex> lock(resolved_mutex_);
+  std::string said;
+  if (converged && settings_.max_jitter > 0 && last_resolved_.series == body.series &&
+      last_resolved_.frame_index < body.frame_index && last_resolved_.F.rows() == garment.F.rows() &&
+      last_resolved_.F == garment.F) {
+    CoherenceParams cp;
+    cp.max_change = settings_.max_jitter;
+    cp.min_clearance = 0.5 * clearance;
+    const CoherenceReport c = limitCorrectionChange(*body.body, garment, input, last_resolved_.correction, cp);
+    if (c.candidates > 0) {
+      std::ostringstream o;
+      o << "; temporal coherence: " << c.candidates << " vertices' corrections changed by more than "
+        << settings_.max_jitter << " m since frame " << last_resolved_.frame_index << ", " << c.limited
+        << " brought within it (largest change " << c.change_before << " -> " << c.change_after << " m)";
+      said = o.str();
+    }
+  }
+  if (converged) last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, garment.V - input};
+  else last_resolved_ = ResolvedFrame();
+  return said;
 }
 
 }  // namespace virtual_tryon

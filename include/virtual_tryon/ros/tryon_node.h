@@ -73,6 +73,10 @@ class TryonNode {
     double tf_timeout = 0.5;  // seconds
     std::string body_frame;   // "" = the body message's frame_id (fallback "body")
     bool auto_fit = false;    // fit each new body / garment on the worker and publish the result
+    // m: resolving the latest garment on a later frame of the same body (topics), each vertex's
+    // correction changes by at most this from the last such fit where the frame stays clean
+    // (core/resolve/temporal_coherence.h); 0: off.
+    double max_jitter = 0.003;
   };
 
   // A body with its frame and what was found in it; the Body (and its BVH) is shared, never
@@ -87,6 +91,13 @@ class TryonNode {
     bool refitted = false;              // a frame of the body before it (Body(previous, V))
     ros::Duration frame_interval;       // a frame: its stamp less the previous frame's
     std::uint64_t series = 0;           // the body installed (1, 2, ...) this is a frame of; 0: a request's
+  };
+  // The last fit of the topics' garment on a frame of a topic body: the correction it made, for
+  // the next frame's temporal coherence.
+  struct ResolvedFrame {
+    std::uint64_t series = 0, frame_index = 0;
+    MatrixX3i F;
+    MatrixX3d correction;
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;
@@ -204,6 +215,9 @@ class TryonNode {
   // (zUpWorldFromBody with ~up_axis), so that rviz shows the body standing (REP 103).
   void publishWorldTransform(const BodyState& body);
   void publishFit(const virtual_tryon::FitReport& report, const pcl_msgs::PolygonMesh& garment);
+  // Temporal coherence of a resolve of the topics' garment on a frame of a topic body (resolve()).
+  std::string keepCoherent(const BodyState& body, TriMesh& garment, const MatrixX3d& input, bool converged,
+                           double clearance);
 
   ros::NodeHandle nh_, pnh_;
   Settings settings_;  // written once in the constructor, read-only afterwards
@@ -231,6 +245,9 @@ class TryonNode {
   std::mutex publish_mutex_;  // one publisher at a time: ~fitted_garment, ~fit_report, ~markers agree
 
   std::uint64_t body_series_ = 0;  // bodies installed so far (BodyState::series)
+
+  std::mutex resolved_mutex_;      // guards last_resolved_
+  ResolvedFrame last_resolved_;    // the topics' garment as last resolved on a topic body
 
   // auto_fit's drape, worn through the body's frames (used on the worker thread only).
   struct WornState {

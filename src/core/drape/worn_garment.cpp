@@ -339,27 +339,32 @@ void WornGarment::resolveRelaxed(const Body& body, WornFrameReport& rep) {
 
 namespace {
 
-// Per cloth node, a weight 1 within `inner` rings of edges of the vertices of the crossings left
-// in `garment`, falling linearly to 0 at `outer` rings; all 1 when none are found.
-std::vector<double> weightsAroundCrossings(const Body& body, const TriMesh& garment, int inner, int outer) {
+// The vertices of the crossings left in `garment`.
+std::vector<int> crossingVertices(const Body& body, const TriMesh& garment) {
   const GarmentTopology topo(garment);
   CrossingSet left;
   detectCrossings(body, garment, topo, left);
-  const std::size_t n = static_cast<std::size_t>(garment.V.rows());
-  std::vector<int> ring(n, -1);
-  std::vector<int> queue;
-  auto seed = [&](int v) {
-    if (ring[static_cast<std::size_t>(v)] < 0) ring[static_cast<std::size_t>(v)] = 0, queue.push_back(v);
-  };
-  for (const EdgeFaceCrossing& c : left.garment_edges) seed(topo.edges(c.edge, 0)), seed(topo.edges(c.edge, 1));
+  std::vector<int> seeds;
+  for (const EdgeFaceCrossing& c : left.garment_edges) seeds.push_back(topo.edges(c.edge, 0)), seeds.push_back(topo.edges(c.edge, 1));
   for (const EdgeFaceCrossing& c : left.body_edges)
-    for (int k = 0; k < 3; ++k) seed(garment.F(c.face, k));
-  if (queue.empty()) return std::vector<double>(n, 1.0);
+    for (int k = 0; k < 3; ++k) seeds.push_back(garment.F(c.face, k));
+  return seeds;
+}
+
+// Per node of a mesh with faces F, a weight 1 within `inner` rings of edges of the seeds, falling
+// linearly to 0 at `outer` rings; all 1 without seeds.
+std::vector<double> weightsAround(const MatrixX3i& F, std::size_t n, const std::vector<int>& seeds, int inner, int outer) {
+  if (seeds.empty()) return std::vector<double>(n, 1.0);
   std::vector<std::vector<int>> adj(n);
-  for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
-    adj[static_cast<std::size_t>(topo.edges(e, 0))].push_back(topo.edges(e, 1));
-    adj[static_cast<std::size_t>(topo.edges(e, 1))].push_back(topo.edges(e, 0));
-  }
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), c = F(f, (k + 1) % 3);
+      adj[static_cast<std::size_t>(a)].push_back(c);
+      adj[static_cast<std::size_t>(c)].push_back(a);
+    }
+  std::vector<int> ring(n, -1), queue;
+  for (int v : seeds)
+    if (ring[static_cast<std::size_t>(v)] < 0) ring[static_cast<std::size_t>(v)] = 0, queue.push_back(v);
   for (std::size_t head = 0; head < queue.size(); ++head) {
     const int u = queue[head];
     if (ring[static_cast<std::size_t>(u)] >= outer) continue;
@@ -374,17 +379,27 @@ std::vector<double> weightsAroundCrossings(const Body& body, const TriMesh& garm
 
 }  // namespace
 
-// The steps' correction failed. The cloth of the last clean frame, each node moved as its nearest
-// body vertex moved since then, is the fallback; first only around what the correction left
-// crossed (the steps' cloth elsewhere), then, if that does not converge, everywhere. Each is
-// corrected as a frame's steps are; the first that converges is kept. Otherwise everything is put
-// back as the steps' correction left it.
+// The frame's correction failed, or left the cloth strained past max_strain. The cloth of the last
+// clean frame, each node moved as its nearest body vertex moved since then, is the fallback: first
+// only round the trouble (what the correction left crossed, or its strained nodes; the steps' cloth
+// elsewhere), then the whole cloth. Each is corrected as a frame's steps are; the first that
+// converges (and, for strain, is less strained) is kept. Otherwise everything is put back as the
+// steps' correction left it.
 void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3d& steppedX, WornFrameReport& rep) {
   ClothState& cloth = *cloth_;
   const MatrixX3d& V = next.mesh().V;
   if (clean_V_.rows() != cloth.positions().rows() || steppedX.rows() != clean_V_.rows() ||
       clean_body_V_.rows() != V.rows() || frames_since_clean_ < 1)
     return;
+  const bool failed = !frameClean(rep);
+  std::vector<int> seeds;
+  if (failed) {
+    seeds = crossingVertices(next, garment_);
+  } else {
+    const double limit = params_.drape.max_strain;
+    for (std::size_t i = 0; i < strain_.size(); ++i)
+      if (strain_[i] > limit) seeds.push_back(static_cast<int>(i));
+  }
   const std::vector<int> bound = nearestVertices(clean_body_V_, clean_V_);
   MatrixX3d carried = clean_V_;
   for (Eigen::Index i = 0; i < carried.rows(); ++i) {
@@ -392,10 +407,11 @@ void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3
     if (b >= 0) carried.row(i) += V.row(b) - clean_body_V_.row(b);
   }
   const MatrixX3d skinVelocity = (carried - clean_V_) / (seconds * frames_since_clean_);
-  const std::vector<double> w = weightsAroundCrossings(next, garment_, params_.carry_rings, 2 * params_.carry_rings);
+  const std::vector<double> w = weightsAround(garment_.F, static_cast<std::size_t>(carried.rows()), seeds,
+                                              params_.carry_rings, 2 * params_.carry_rings);
   const MatrixX3d x = cloth.positions(), v = cloth.velocities();
-  const TriMesh failed = garment_;
-  const std::vector<double> failedStrain = strain_;
+  const TriMesh before = garment_;
+  const std::vector<double> beforeStrain = strain_;
   double resolveSeconds = rep.seconds_resolve;
   for (int attempt = 0; attempt < 2; ++attempt) {
     WornFrameReport again = rep;
@@ -410,11 +426,13 @@ void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3
     }
     resolveFrame(next, again);
     resolveSeconds += again.seconds_resolve;
-    if (frameClean(again)) {
+    if (frameClean(again) && (failed || again.strain_max < rep.strain_max)) {
       again.carried = true;
       again.carried_whole = attempt == 1;
+      again.carried_for_strain = !failed;
       again.carried_from = frames_since_clean_;
       again.stepped_resolver = rep.resolver;
+      again.stepped_strain_max = rep.strain_max;
       again.strain_stepped = rep.strain_stepped;
       again.seconds_resolve = resolveSeconds;
       rep = std::move(again);
@@ -423,8 +441,8 @@ void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3
   }
   cloth.positions() = x;
   cloth.velocities() = v;
-  garment_ = failed;
-  strain_ = failedStrain;
+  garment_ = before;
+  strain_ = beforeStrain;
   rep.seconds_resolve = resolveSeconds;
 }
 
@@ -480,7 +498,9 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   const MatrixX3d steppedX = cloth_->positions();
   resolveFrame(next, rep);
   ++frames_since_clean_;
-  if (params_.resolve && params_.carry_with_skin && !frameClean(rep)) carryWithSkin(next, seconds, steppedX, rep);
+  if (params_.resolve && params_.carry_with_skin &&
+      (!frameClean(rep) || (params_.drape.max_strain > 0 && rep.strain_max > params_.drape.max_strain)))
+    carryWithSkin(next, seconds, steppedX, rep);
   if (frameClean(rep)) {
     clean_V_ = garment_.V;
     clean_body_V_ = body_V_;
@@ -498,12 +518,17 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
     msg << "; the relaxed cloth resolved again (" << rep.relaxed_resolver.garment_edge_crossings_before +
                                                          rep.relaxed_resolver.body_edge_crossings_before
         << " crossings) and kept";
-  if (rep.carried)
-    msg << "; the steps' correction failed (" << rep.stepped_resolver.garment_edge_crossings_after +
-                                                    rep.stepped_resolver.body_edge_crossings_after
-        << " crossings left): the cloth " << rep.carried_from << (rep.carried_from == 1 ? " frame" : " frames")
-        << " back carried with the skin " << (rep.carried_whole ? "everywhere" : "around them")
+  if (rep.carried) {
+    if (rep.carried_for_strain)
+      msg << "; the correction left a spring stretched by " << num(rep.stepped_strain_max);
+    else
+      msg << "; the steps' correction failed ("
+          << rep.stepped_resolver.garment_edge_crossings_after + rep.stepped_resolver.body_edge_crossings_after
+          << " crossings left)";
+    msg << ": the cloth " << rep.carried_from << (rep.carried_from == 1 ? " frame" : " frames")
+        << " back carried with the skin " << (rep.carried_whole ? "everywhere" : "around that")
         << " and resolved instead";
+  }
   if (rep.resolver_run && !rep.resolver.converged && !rep.resolved_relaxed) msg << "; not converged: resolver: " << rep.resolver.reason;
   if (!withinStrain)
     msg << "; not converged: a spring is stretched by " << num(rep.strain_max) << ", above max_strain " << num(maxStrain);

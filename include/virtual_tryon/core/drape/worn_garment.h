@@ -58,14 +58,15 @@ struct WornGarmentParams {
   // the returned garment is the first correction, the relaxed cloth only the next frame's start.
   bool resolve_relaxed = true;
   // When a frame's correction does not converge (the steps let a limb through the cloth: on the
-  // walk, a calf swinging back through a wide trouser leg, past what the resolver can undo), the
-  // cloth as it was on the last frame whose correction converged is carried along with the skin
-  // instead: each node moves as its nearest body vertex moved since that frame. First only within
-  // carry_rings rings of edges of what the correction left crossed (blended back to the steps'
-  // cloth over as many rings again), then, if that does not converge, the whole cloth. Each is
-  // corrected as above (resolver, relaxation, second resolve); the first that converges is kept
-  // and the cloth goes on from it (at the skin's velocity where carried). Off: the frame stays
-  // unresolved and the cloth goes on from there.
+  // walk, a calf swinging back through a wide trouser leg, past what the resolver can undo), or
+  // leaves a spring past the drape's max_strain after the second resolve, the cloth as it was on
+  // the last frame whose correction converged is carried along with the skin instead: each node
+  // moves as its nearest body vertex moved since that frame. First only within carry_rings rings
+  // of edges of the trouble (what the correction left crossed, or its strained nodes; blended back
+  // to the steps' cloth over as many rings again), then the whole cloth. Each is corrected as above
+  // (resolver, relaxation, second resolve); the first that converges (and, for strain, is less
+  // strained) is kept and the cloth goes on from it (at the skin's velocity where carried). Off:
+  // the frame stays as its correction left it and the cloth goes on from there.
   bool carry_with_skin = true;
   int carry_rings = 5;
   // A frame whose steps blow up is stepped again from where it began with half the step, at most
@@ -94,8 +95,13 @@ struct WornFrameReport {
   int step_halvings = 0;   // times the frame's step was halved after a blow-up
   int relax_passes = 0;    // passes that relaxed the cloth's spikes after the resolver
   bool resolved_relaxed = false;  // the relaxed cloth was resolved again and kept (less strained)
-  bool carried = false;    // the steps' correction failed; the last clean cloth carried with the skin was kept
-  bool carried_whole = false;  // with carried: the whole cloth, not only around the crossings left
+  // The last clean cloth carried with the skin (and corrected) was kept: the steps' correction
+  // failed, or (carried_for_strain) left a spring past max_strain and the carried cloth is less
+  // strained.
+  bool carried = false;
+  bool carried_for_strain = false;
+  bool carried_whole = false;  // with carried: the whole cloth, not only round the trouble
+  double stepped_strain_max = 0;  // with carried: strain_max as the steps' correction left it
   int carried_from = -1;   // frames back to that clean cloth (1: the frame before)
   ResolverReport stepped_resolver;  // with carried: the failed correction of the steps
   bool interpolated = false, grid_rebuilt = false;
