@@ -171,10 +171,13 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
       params_.max_steps_per_frame < 1 || !(params_.strain_restore >= 0 && params_.strain_restore <= 1) ||
       params_.relax_passes < 0 || params_.relax_passes > 1000 ||
       !(params_.relax_compression >= 0 && params_.relax_compression < 1) || params_.step_halvings < 0 ||
-      params_.step_halvings > 8 || params_.carry_rings < 0 || params_.carry_rings > 1000) {
+      params_.step_halvings > 8 || params_.carry_rings < 0 || params_.carry_rings > 1000 ||
+      params_.carry_relax_passes < 0 || params_.carry_relax_passes > 10000 || params_.carry_smoothing < 0 ||
+      params_.carry_smoothing > 1000) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
-                "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8, carry_rings 0 .. 1000)";
+                "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8, carry_rings 0 .. 1000, "
+                "carry_relax_passes 0 .. 10000, carry_smoothing 0 .. 1000)";
     return r;
   }
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
@@ -351,6 +354,14 @@ std::vector<int> crossingVertices(const Body& body, const TriMesh& garment) {
   return seeds;
 }
 
+// The nodes whose strain is over `limit`.
+std::vector<int> nodesOver(const std::vector<double>& strain, double limit) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < strain.size(); ++i)
+    if (strain[i] > limit) out.push_back(static_cast<int>(i));
+  return out;
+}
+
 // Per node of a mesh with faces F, a weight 1 within `inner` rings of edges of the seeds, falling
 // linearly to 0 at `outer` rings; all 1 without seeds.
 std::vector<double> weightsAround(const MatrixX3i& F, std::size_t n, const std::vector<int>& seeds, int inner, int outer) {
@@ -377,6 +388,37 @@ std::vector<double> weightsAround(const MatrixX3i& F, std::size_t n, const std::
   return w;
 }
 
+// Each cloth node (rows of X, faces F) moved as its nearest body vertex moved from `from` to `to`,
+// the moves then averaged with the cloth neighbours' `passes` times (Jacobi, half the node's own):
+// neighbours bound to body parts that move apart (two legs, a thigh and a calf) would otherwise
+// tear the cloth between them.
+MatrixX3d skinDisplacement(const MatrixX3d& from, const MatrixX3d& to, const MatrixX3d& X, const MatrixX3i& F,
+                           int passes) {
+  const std::vector<int> bound = nearestVertices(from, X);
+  MatrixX3d d = MatrixX3d::Zero(X.rows(), 3);
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const int b = bound[static_cast<std::size_t>(i)];
+    if (b >= 0) d.row(i) = to.row(b) - from.row(b);
+  }
+  MatrixX3d sum(X.rows(), 3);
+  std::vector<int> count(static_cast<std::size_t>(X.rows()));
+  for (int pass = 0; pass < passes; ++pass) {
+    sum.setZero();
+    std::fill(count.begin(), count.end(), 0);
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(f, k), c = F(f, (k + 1) % 3);
+        sum.row(a) += d.row(c);
+        sum.row(c) += d.row(a);
+        ++count[static_cast<std::size_t>(a)];
+        ++count[static_cast<std::size_t>(c)];
+      }
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      if (count[static_cast<std::size_t>(i)] > 0) d.row(i) = 0.5 * d.row(i) + 0.5 * sum.row(i) / count[static_cast<std::size_t>(i)];
+  }
+  return d;
+}
+
 }  // namespace
 
 // The frame's correction failed, or left the cloth strained past max_strain. The cloth of the last
@@ -392,20 +434,8 @@ void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3
       clean_body_V_.rows() != V.rows() || frames_since_clean_ < 1)
     return;
   const bool failed = !frameClean(rep);
-  std::vector<int> seeds;
-  if (failed) {
-    seeds = crossingVertices(next, garment_);
-  } else {
-    const double limit = params_.drape.max_strain;
-    for (std::size_t i = 0; i < strain_.size(); ++i)
-      if (strain_[i] > limit) seeds.push_back(static_cast<int>(i));
-  }
-  const std::vector<int> bound = nearestVertices(clean_body_V_, clean_V_);
-  MatrixX3d carried = clean_V_;
-  for (Eigen::Index i = 0; i < carried.rows(); ++i) {
-    const int b = bound[static_cast<std::size_t>(i)];
-    if (b >= 0) carried.row(i) += V.row(b) - clean_body_V_.row(b);
-  }
+  const std::vector<int> seeds = failed ? crossingVertices(next, garment_) : nodesOver(strain_, params_.drape.max_strain);
+  const MatrixX3d carried = clean_V_ + skinDisplacement(clean_body_V_, V, clean_V_, garment_.F, params_.carry_smoothing);
   const MatrixX3d skinVelocity = (carried - clean_V_) / (seconds * frames_since_clean_);
   const std::vector<double> w = weightsAround(garment_.F, static_cast<std::size_t>(carried.rows()), seeds,
                                               params_.carry_rings, 2 * params_.carry_rings);
@@ -414,36 +444,45 @@ void WornGarment::carryWithSkin(const Body& next, double seconds, const MatrixX3
   const std::vector<double> beforeStrain = strain_;
   double resolveSeconds = rep.seconds_resolve;
   for (int attempt = 0; attempt < 2; ++attempt) {
-    WornFrameReport again = rep;
-    again.relax_passes = 0;
-    again.resolved_relaxed = false;
-    again.resolver = ResolverReport();
-    again.relaxed_resolver = ResolverReport();
     for (Eigen::Index i = 0; i < carried.rows(); ++i) {
       const double wi = attempt == 0 ? w[static_cast<std::size_t>(i)] : 1.0;
       cloth.positions().row(i) = steppedX.row(i) + wi * (carried.row(i) - steppedX.row(i));
       cloth.velocities().row(i) = (1 - wi) * v.row(i) + wi * skinVelocity.row(i);
     }
-    resolveFrame(next, again);
-    resolveSeconds += again.seconds_resolve;
-    if (frameClean(again) && (failed || again.strain_max < rep.strain_max)) {
-      again.carried = true;
-      again.carried_whole = attempt == 1;
-      again.carried_for_strain = !failed;
-      again.carried_from = frames_since_clean_;
-      again.stepped_resolver = rep.resolver;
-      again.stepped_strain_max = rep.strain_max;
-      again.strain_stepped = rep.strain_stepped;
-      again.seconds_resolve = resolveSeconds;
-      rep = std::move(again);
-      return;
-    }
+    if (correctCarried(next, failed, attempt == 1, resolveSeconds, rep)) return;
   }
   cloth.positions() = x;
   cloth.velocities() = v;
   garment_ = before;
   strain_ = beforeStrain;
   rep.seconds_resolve = resolveSeconds;
+}
+
+// The carried cloth (in cloth_) relaxed and corrected as a frame's steps are; taken into rep when
+// that converges and (for strain) is less strained than rep.
+bool WornGarment::correctCarried(const Body& next, bool failed, bool whole, double& resolveSeconds,
+                                 WornFrameReport& rep) {
+  // Nodes bound to body parts that move apart (two legs, a thigh and a calf) stretch the cloth
+  // between them: that is taken back before the correction.
+  if (params_.carry_relax_passes > 0) cloth_->relaxStrainedSprings(params_.carry_relax_passes, params_.relax_compression);
+  WornFrameReport again = rep;
+  again.relax_passes = 0;
+  again.resolved_relaxed = false;
+  again.resolver = ResolverReport();
+  again.relaxed_resolver = ResolverReport();
+  resolveFrame(next, again);
+  resolveSeconds += again.seconds_resolve;
+  if (!frameClean(again) || !(failed || again.strain_max < rep.strain_max)) return false;
+  again.carried = true;
+  again.carried_whole = whole;
+  again.carried_for_strain = !failed;
+  again.carried_from = frames_since_clean_;
+  again.stepped_resolver = rep.resolver;
+  again.stepped_strain_max = rep.strain_max;
+  again.strain_stepped = rep.strain_stepped;
+  again.seconds_resolve = resolveSeconds;
+  rep = std::move(again);
+  return true;
 }
 
 WornFrameReport WornGarment::follow(const Body& next, double seconds) {

@@ -69,6 +69,13 @@ struct WornGarmentParams {
   // the frame stays as its correction left it and the cloth goes on from there.
   bool carry_with_skin = true;
   int carry_rings = 5;
+  // Nodes bound to body parts that move apart (two legs, a thigh and a calf) stretch the carried
+  // cloth between them. Passes that average each node's carried move with its cloth neighbours'
+  // (0: each node exactly as its nearest body vertex), then passes of the spring relaxation (as
+  // relax_passes) before the correction. On the walk's trousers, largest strain 0.75 with
+  // neither, 0.59 with 10 relaxation passes, 0.32 with these defaults.
+  int carry_smoothing = 10;
+  int carry_relax_passes = 40;
   // A frame whose steps blow up is stepped again from where it began with half the step, at most
   // this many times; then the frame fails (nothing moved).
   int step_halvings = 2;
@@ -153,6 +160,7 @@ class WornGarment {
   void resolveFrame(const Body& body, WornFrameReport& rep);
   void resolveRelaxed(const Body& body, WornFrameReport& rep);
   void carryWithSkin(const Body& next, double seconds, const MatrixX3d& steppedX, WornFrameReport& rep);
+  bool correctCarried(const Body& next, bool failed, bool whole, double& resolveSeconds, WornFrameReport& rep);
   bool frameClean(const WornFrameReport& rep) const {
     return rep.resolver_run && (rep.resolver.converged || rep.resolved_relaxed);
   }
