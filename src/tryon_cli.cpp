@@ -611,7 +611,10 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         .add("jitter_m", jitter)
         .add("ms", frameMs)
         .add("ms_body", bodyMs)
-        .add("ms_resolve", 1e3 * rep.seconds_total);
+        .add("ms_resolve", 1e3 * rep.seconds_total)
+        .add("ms_detection", 1e3 * rep.seconds_detection)
+        .add("ms_solve", 1e3 * rep.seconds_solve)
+        .add("ms_relaxation", 1e3 * rep.seconds_relaxation);
     if (coherent)
       line.json("coherence", vt::json::Obj()
                                  .add("over_max_jitter", coherence.candidates)
