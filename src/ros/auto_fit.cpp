@@ -98,8 +98,11 @@ void TryonNode::fitGarmentMesh() {
     // a body is queued or the next frame is due (within two frame intervals); that frame's install
     // fits it. Fitted on this frame, it would be corrected for a body it was not posed for (spikes
     // of 3.4 on the walk). Past that, the body has stopped: the garment is fitted on the last frame.
+    // The same holds for the body as first installed when its next frame is already queued (a
+    // stream whose first frame took long to check: the walk's garment frame 2 was fitted on body
+    // frame 0, strain 0.72).
     const BodyState& b = topic_body_;
-    if (b.refitted && topic_garment_.mesh && !b.stamp.isZero() && topic_garment_.header.stamp > b.stamp &&
+    if (topic_garment_.mesh && !b.stamp.isZero() && topic_garment_.header.stamp > b.stamp &&
         (jobs_.waiting("body") || topic_garment_.header.stamp <= b.stamp + b.frame_interval * 2.0)) {
       ROS_DEBUG("tryon_node: auto_fit: the garment is stamped after the body frame; waiting for its frame");
       return;
