@@ -142,6 +142,15 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
   const MatrixX3d w0 = warmOut.samples[0] - garment.samples[0];
   for (int f = 1; f < 5; ++f)
     EXPECT_LT(((warmOut.samples[f] - garment.samples[f]) - w0).rowwise().norm().maxCoeff(), 3e-3) << f;
+  // Temporal coherence is on by default and says what it did; a limit out of range is bad input.
+  EXPECT_TRUE(contains(run.out, "\"max_jitter_m\": 0.003")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"vertices_over_max_jitter\"")) << run.out;
+  const CliRun badJitter = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir +
+                                      "/body.pc2 --garment " + dir + "/garment.obj --garment-cache " + dir +
+                                      "/garment.pc2 --out " + dir + "/o.pc2 --max-jitter -1",
+                                  dir + "/err3.txt");
+  EXPECT_EQ(badJitter.code, 2);
+  EXPECT_TRUE(contains(badJitter.err, "--max-jitter")) << badJitter.err;
   // Mismatched caches: exit 2 with the reason.
   const CliRun bad = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir + "/garment.pc2 --garment " +
                                 dir + "/garment.obj --garment-cache " + dir + "/garment.pc2 --out " + dir + "/o.pc2",
