@@ -3,6 +3,7 @@
 #include "core/resolve/resolver_run.h"
 
 #include <sstream>
+#include <string>
 
 namespace virtual_tryon {
 namespace {
@@ -20,13 +21,8 @@ ResolverReport refuseInsideOut(const Body& body, const resolver_run::Stopwatch& 
   return rep;
 }
 
-}  // namespace
-
-// The stages of a run are the methods of resolver_run::ResolverRun (core/resolve/resolver_run.h).
-ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const ResolverParams& params) {
-  const resolver_run::Stopwatch clock;
-  if (body.closed() && body.signedVolume() < 0) return refuseInsideOut(body, clock);
-  resolver_run::ResolverRun run(body, garment, params, clock);
+// The stages of a run, in order (core/resolve/resolver_run.h).
+ResolverReport runStages(resolver_run::ResolverRun& run, const ResolverParams& params) {
   run.detect();
   if (params.body_uncertainty > 0)
     run.pushOutNearVertices();
@@ -42,6 +38,31 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const Res
   }
   run.relaxShape();
   return run.finish();
+}
+
+}  // namespace
+
+ResolverReport resolvePenetrations(const Body& body, TriMesh& garment, const ResolverParams& params) {
+  const resolver_run::Stopwatch clock;
+  if (body.closed() && body.signedVolume() < 0) return refuseInsideOut(body, clock);
+  resolver_run::ResolverRun run(body, garment, params, clock);
+  return runStages(run, params);
+}
+
+ResolverReport resolvePenetrationsFrom(const Body& body, const TriMesh& input, TriMesh& garment,
+                                       const ResolverParams& params) {
+  const resolver_run::Stopwatch clock;
+  if (body.closed() && body.signedVolume() < 0) return refuseInsideOut(body, clock);
+  if (input.V.rows() != garment.V.rows() || input.F.rows() != garment.F.rows() || input.F != garment.F) {
+    ResolverReport rep;
+    rep.reason = "the warm start has " + std::to_string(garment.V.rows()) + " vertices and " +
+                 std::to_string(garment.F.rows()) + " faces, its input " + std::to_string(input.V.rows()) +
+                 " and " + std::to_string(input.F.rows()) + ": they must share faces and vertex order; nothing moved";
+    rep.seconds_total = clock.now();
+    return rep;
+  }
+  resolver_run::ResolverRun run(body, input, garment, params, clock);
+  return runStages(run, params);
 }
 
 }  // namespace virtual_tryon

@@ -151,16 +151,20 @@ GarmentGraph::GarmentGraph(const TriMesh& garment, const GarmentTopology& topo) 
 
 ResolverRun::ResolverRun(const Body& body, TriMesh& garment, const ResolverParams& params,
                          const Stopwatch& clock)
+    : ResolverRun(body, garment, garment, params, clock) {}
+
+ResolverRun::ResolverRun(const Body& body, const TriMesh& input, TriMesh& garment, const ResolverParams& params,
+                         const Stopwatch& clock)
     : body_(body),
       garment_(garment),
-      input_(garment),
+      input_(input),
       params_(params),
       clock_(clock),
       nv_(static_cast<int>(garment.V.rows())),
       topo_(garment),
       graph_(garment, topo_),
       d_((params.clearance > 0 ? params.clearance
-                               : params.clearance_fraction * meanLength(garment.V, topo_.edges)) +
+                               : params.clearance_fraction * meanLength(input.V, topo_.edges)) +
          std::max(0.0, params.body_uncertainty)),
       insideTest_(params.check_inside && body.closed()) {
   rep_.body_closed = body.closed();

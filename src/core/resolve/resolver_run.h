@@ -76,6 +76,10 @@ class ResolverRun {
   // garment's topology and graph and fixes the clearance; detects nothing yet. The body must not
   // be inside out (resolvePenetrations() refuses that before a run exists).
   ResolverRun(const Body& body, TriMesh& garment, const ResolverParams& params, const Stopwatch& clock);
+  // A warm start: `garment` starts elsewhere than the garment's own `input` (same faces and vertex
+  // order), which the shape relaxation, strain and displacement are measured against.
+  ResolverRun(const Body& body, const TriMesh& input, TriMesh& garment, const ResolverParams& params,
+              const Stopwatch& clock);
 
   void detect();
   // Every vertex found inside, to its nearest body point plus the clearance (the rounds then clear
@@ -136,7 +140,7 @@ class ResolverRun {
 
   const Body& body_;
   TriMesh& garment_;
-  const TriMesh input_;  // the garment as it came in
+  const TriMesh input_;  // the garment as it came in (or its own input, for a warm start)
   const ResolverParams& params_;
   Stopwatch clock_;
   ResolverReport rep_;

@@ -146,4 +146,15 @@ struct ResolverReport {
 ResolverReport resolvePenetrations(const Body& body, TriMesh& garment,
                                    const ResolverParams& params = ResolverParams());
 
+// A warm start, for the frames of an animation: `garment` comes in at a start of the caller's
+// choosing (say, this frame's input moved by the previous frame's correction) and is resolved from
+// there as a whole, exactly as above, so the result is correct on its own whatever the start. The
+// garment's own `input` (same faces and vertex order; else refused, nothing moved) is what the
+// shape relaxation keeps the shape of and pulls back to, and what the report's strain and
+// displacement are measured against: a correction the start carries but this input no longer
+// needs is given back, and one that the input's motion would strain is turned with it. The
+// relaxation runs even when the start is already clean. The "before" counts are the start's.
+ResolverReport resolvePenetrationsFrom(const Body& body, const TriMesh& input, TriMesh& garment,
+                                       const ResolverParams& params = ResolverParams());
+
 }  // namespace virtual_tryon
