@@ -112,15 +112,17 @@ std::string usage() {
          "      xvfb-run. drape --render PREFIX writes the same pictures of a drape, coloured by\n"
          "      the strain of its structural springs.\n"
          "  tryon animate resolve --body B.obj --body-cache B.pc2 --garment G.obj --garment-cache G.pc2\n"
-         "                --out OUT.pc2 [--check] [--max-jitter M] [--warm-start] [--clearance M]\n"
+         "                --out OUT.pc2 [--check] [--max-jitter M] [--cold] [--clearance M]\n"
          "                [--max-iterations N] [--objective ...]\n"
          "      Resolves every frame of an animated garment on an animated body (Point Cache 2, in\n"
          "      the rest meshes' vertex order; Sun et al. 2016's garment animation synthesis).\n"
          "      Each frame on its own (history-free). One JSON line per frame (crossings before\n"
          "      and after, inside, iterations, displacement, strain, jitter: the largest change of\n"
          "      a vertex's correction from the frame before, milliseconds), then a summary line.\n"
-         "      --check adds the referee's counts per frame. --warm-start starts each frame from its\n"
-         "      input moved by the previous frame's correction (still resolved and checked whole).\n"
+         "      --check adds the referee's counts per frame. Each frame starts from its input moved by\n"
+         "      the previous frame's correction (a warm start: still resolved and checked whole, its\n"
+         "      shape kept against its own input; a warm frame that does not converge is resolved\n"
+         "      again from its input); --cold resolves every frame from its input alone.\n"
          "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
@@ -165,7 +167,7 @@ struct Usage : std::runtime_error {
 };
 
 // Options without a value.
-const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "no-body-velocity",
+const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "cold", "no-body-velocity",
                                       "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
                                       "no-resolve-relaxed", "no-carry"};
 
@@ -541,7 +543,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
                                 " frames, the garment cache " + std::to_string(garmentCache.samples.size()));
   const vt::ResolverParams params = resolverParams(opt);
   const bool check = opt.count("check") > 0;
-  const bool warm = opt.count("warm-start") > 0;
+  const bool warm = opt.count("cold") == 0;
+  std::size_t coldFallbacks = 0;
   vt::CoherenceParams coherenceParams;
   coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
   if (!(coherenceParams.max_change >= 0 && coherenceParams.max_change <= 1))
@@ -564,11 +567,24 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     last = std::move(next);
     const vt::Body& body = *last;
     const double bodyMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    vt::TriMesh garment{garmentCache.samples[f], garmentRest.F};
-    // --warm-start: the frame starts from its input moved by the previous frame's correction; the
-    // resolver still checks and fixes it as a whole (each frame is correct on its own).
-    if (warm && previousCorrection.rows() == garment.V.rows()) garment.V += previousCorrection;
-    const vt::ResolverReport rep = vt::resolvePenetrations(body, garment, params);
+    const vt::TriMesh input{garmentCache.samples[f], garmentRest.F};
+    vt::TriMesh garment = input;
+    // Warm start (the default; --cold turns it off): the frame starts from its input moved by the
+    // previous frame's correction, and the resolver checks and fixes it as a whole (each frame is
+    // correct on its own) and relaxes it against this frame's input. Where a warm frame does not
+    // converge, the frame is resolved again from its input alone.
+    bool warmNow = warm && previousCorrection.rows() == garment.V.rows();
+    if (warmNow) garment.V += previousCorrection;
+    vt::ResolverReport rep = warmNow ? vt::resolvePenetrationsFrom(body, input, garment, params)
+                                     : vt::resolvePenetrations(body, garment, params);
+    if (warmNow && !rep.converged) {
+      ++coldFallbacks;
+      const double warmSeconds = rep.seconds_total;
+      garment = input;
+      rep = vt::resolvePenetrations(body, garment, params);
+      rep.seconds_total += warmSeconds;
+      warmNow = false;
+    }
     // Where the correction jumped since the frame before, the clean position nearest to the
     // previous correction (core/resolve/temporal_coherence.h).
     vt::CoherenceReport coherence;
@@ -614,7 +630,10 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         .add("ms_resolve", 1e3 * rep.seconds_total)
         .add("ms_detection", 1e3 * rep.seconds_detection)
         .add("ms_solve", 1e3 * rep.seconds_solve)
-        .add("ms_relaxation", 1e3 * rep.seconds_relaxation);
+        .add("ms_relaxation", 1e3 * rep.seconds_relaxation)
+        .add("relaxed_vertices", rep.relaxation.active_vertices)
+        .add("relaxation_sweeps", rep.relaxation.sweeps)
+        .add("warm_start", warmNow);
     if (coherent)
       line.json("coherence", vt::json::Obj()
                                  .add("over_max_jitter", coherence.candidates)
@@ -638,6 +657,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   summary.add("not_converged", notConverged)
       .add("jitter_max_m", jitterMax)
       .add("max_jitter_m", coherenceParams.max_change)
+      .add("warm_start", warm)
+      .add("warm_frames_resolved_cold", coldFallbacks)
       .add("vertices_over_max_jitter", coherenceCandidates)
       .add("vertices_left_over_max_jitter", coherenceHeld)
       .add("body_trees_refitted", refitted)
@@ -875,7 +896,7 @@ int main(int argc, char** argv) {
         return animateDrape(opt);
       }
       if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
-      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "max-jitter", "clearance",
+      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "max-jitter", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);
     }
