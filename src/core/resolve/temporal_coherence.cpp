@@ -84,13 +84,18 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
       if (len <= limit * (1 + 1e-9)) continue;
       const Eigen::RowVector3d from = garment.V.row(v);
       const Eigen::RowVector3d step = -change * (1.0 - limit / len);
-      bool ok = false;
-      for (int b = 0, s = 1; b <= std::max(0, params.bisections) && !ok; ++b, s *= 2) {
-        garment.V.row(v) = from + step / static_cast<double>(s);
-        ok = check.clean(v, floor[i] * (1 - 1e-9));
+      // The whole step, else the largest clean part of it found by bisection (the resolved
+      // position, part 0, is clean).
+      double lo = 0, hi = 1;
+      garment.V.row(v) = from + step;
+      if (check.clean(v, floor[i] * (1 - 1e-9))) lo = 1;
+      for (int b = 0; b < std::max(0, params.bisections) && lo < 1; ++b) {
+        const double mid = 0.5 * (lo + hi);
+        garment.V.row(v) = from + mid * step;
+        (check.clean(v, floor[i] * (1 - 1e-9)) ? lo : hi) = mid;
       }
-      if (!ok) garment.V.row(v) = from;
-      moved = moved || ok;
+      garment.V.row(v) = from + lo * step;
+      moved = moved || lo > 0;
     }
     if (!moved) break;
   }

@@ -8,8 +8,8 @@
 // correction changed by more than max_change since the previous frame, moves it towards its
 // previous correction, to a change of max_change, where that keeps the frame clean: none of the
 // vertex's faces or edges crosses the body, the vertex is not inside it, and it stays at least
-// min_clearance from it (or as far as it was, if nearer). Otherwise it tries half that move, a
-// quarter, ...; otherwise it stays where the resolver put it. The frame stays correct on its own
+// min_clearance from it (or as far as it was, if nearer). Otherwise it takes the largest clean part
+// of that move, found by bisection; otherwise it stays where the resolver put it. The frame stays correct on its own
 // (every move is checked against this frame's body); only the choice among clean positions follows
 // the previous frame.
 #pragma once
@@ -25,7 +25,7 @@ struct CoherenceParams {
   double max_change = 0.003;   // m: the largest change of a vertex's correction from one frame to the next
   double min_clearance = 0;    // m: a moved vertex keeps at least this from the body
   int passes = 3;              // over the vertices still over max_change (a neighbour's move may free one)
-  int bisections = 3;          // halvings of a move that does not keep the frame clean
+  int bisections = 5;          // bisections for the largest clean part of a move that does not keep the frame clean
 };
 
 struct CoherenceReport {
