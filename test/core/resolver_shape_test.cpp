@@ -121,3 +121,46 @@ TEST(ReferenceShape, MeasuresAKnownStretchAndLift) {
   s = referenceShape(referee, input, output, true);
   EXPECT_NEAR(s.max_strain, 1.0, 1e-9);
 }
+
+// A warm start (resolvePenetrationsFrom), as `tryon animate resolve` runs it by default: frame 1's
+// input moved by frame 0's correction. The body moved 6 mm sideways under a garment that stayed,
+// so the old correction is wrong on both sides: too little where the body came nearer, more than
+// needed where it went away. The result is judged on frame 1 alone, against frame 1's input.
+TEST(ResolverShape, WarmStartFromTheLastFrameIsJudgedOnItsOwnInput) {
+  const ResolveScene s = makeWrinkledTubeScene(48, 30);
+  Body body0(s.body);
+  TriMesh frame0 = s.garment;
+  ASSERT_TRUE(resolvePenetrations(body0, frame0).converged);
+  const MatrixX3d correction = frame0.V - s.garment.V;
+  TriMesh body1Mesh = s.body;
+  body1Mesh.V.rowwise() += Eigen::RowVector3d(0.006, 0, 0);
+  const Body body1(body1Mesh);
+  TriMesh warm = s.garment;
+  warm.V += correction;
+  const ResolverReport rep = resolvePenetrationsFrom(body1, s.garment, warm);
+  EXPECT_TRUE(rep.converged) << rep.reason;
+  const ReferenceReferee referee(body1Mesh);
+  const ReferenceCounts c = referee.count(warm);
+  EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
+  const ReferenceShape shape = referenceShape(referee, s.garment, warm, true);
+  EXPECT_LE(shape.max_strain, 0.3);
+  EXPECT_LE(shape.p99_strain, pushOutP99(body1Mesh, s.garment) + 0.02);
+  // Measured against frame 1's input, not against the warm start.
+  EXPECT_NEAR(rep.max_edge_strain, shape.max_strain, 1e-9);
+  // The same frame resolved cold is no cleaner and stretches about as much.
+  TriMesh cold = s.garment;
+  ASSERT_TRUE(resolvePenetrations(body1, cold).converged);
+  EXPECT_LE(shape.max_strain, referenceShape(referee, s.garment, cold, true).max_strain + 0.05);
+}
+
+TEST(ResolverShape, WarmStartRefusesAnInputOfAnotherSizeAndMovesNothing) {
+  const ResolveScene s = makeWrinkledTubeScene(48, 30);
+  const Body body(s.body);
+  TriMesh input = s.garment;
+  input.V.conservativeResize(input.V.rows() - 1, 3);
+  TriMesh garment = s.garment;
+  const ResolverReport rep = resolvePenetrationsFrom(body, input, garment);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_FALSE(rep.reason.empty());
+  EXPECT_EQ((garment.V - s.garment.V).cwiseAbs().maxCoeff(), 0.0);
+}
