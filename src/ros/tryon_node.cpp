@@ -167,6 +167,7 @@ void TryonNode::readParameters() {
   pnh_.param("body_frame", settings_.body_frame, std::string());
   pnh_.param("auto_fit", settings_.auto_fit, false);
   settings_.max_jitter = readDouble(pnh_, "max_jitter", settings_.max_jitter, false);
+  pnh_.param("warm_start", settings_.warm_start, settings_.warm_start);
   const ScanMeshingParams sd;
   settings_.scan.voxel_size = readDouble(pnh_, "scan/voxel_size", sd.voxel_size, false);
   settings_.scan.normal_neighbours = readCount(pnh_, "scan/normal_neighbours", sd.normal_neighbours);
@@ -354,10 +355,12 @@ bool TryonNode::resolve(const virtual_tryon::ResolvePenetration::Request& req,
   params.body_uncertainty = body.report.uncertainty;
 
   const MatrixX3d before = garment.V;
-  const ResolverReport report = resolvePenetrations(*body.body, garment, params);
-  const std::string coherence = isEmpty(req.body) && isEmpty(req.garment) && body.series != 0
-                                    ? keepCoherent(body, garment, before, report.converged, report.clearance)
-                                    : std::string();
+  const bool topicFrame = isEmpty(req.body) && isEmpty(req.garment) && body.series != 0;
+  std::uint64_t warmFrom = 0;
+  const ResolverReport report = resolveFrame(body, garment, params, topicFrame, warmFrom);
+  std::string coherence = topicFrame ? keepCoherent(body, garment, before, report.converged, report.clearance)
+                                     : std::string();
+  if (warmFrom > 0) coherence = "; warm start from frame " + std::to_string(warmFrom - 1) + coherence;
 
   const std_msgs::Header header = fitHeader(body);
   rc::toMsg(garment, header, res.garment);
@@ -397,9 +400,7 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
                                     double clearance) {
   std::lock_guard<std::mutex> lock(resolved_mutex_);
   std::string said;
-  if (converged && settings_.max_jitter > 0 && last_resolved_.series == body.series &&
-      last_resolved_.frame_index < body.frame_index && last_resolved_.F.rows() == garment.F.rows() &&
-      last_resolved_.F == garment.F) {
+  if (converged && settings_.max_jitter > 0 && lastResolvedPrecedes(body, garment)) {
     CoherenceParams cp;
     cp.max_change = settings_.max_jitter;
     cp.min_clearance = 0.5 * clearance;
@@ -415,6 +416,35 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
   if (converged) last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, garment.V - input};
   else last_resolved_ = ResolvedFrame();
   return said;
+}
+
+bool TryonNode::lastResolvedPrecedes(const BodyState& body, const TriMesh& garment) const {
+  return last_resolved_.series == body.series && last_resolved_.frame_index < body.frame_index &&
+         last_resolved_.F.rows() == garment.F.rows() && last_resolved_.F == garment.F &&
+         last_resolved_.correction.rows() == garment.V.rows();
+}
+
+ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, const ResolverParams& params,
+                                       bool topicFrame, std::uint64_t& warmFrom) {
+  warmFrom = 0;
+  TriMesh start = garment;
+  if (topicFrame && settings_.warm_start) {
+    std::lock_guard<std::mutex> lock(resolved_mutex_);
+    if (lastResolvedPrecedes(body, garment)) {
+      start.V += last_resolved_.correction;
+      warmFrom = last_resolved_.frame_index + 1;
+    }
+  }
+  if (warmFrom == 0) return resolvePenetrations(*body.body, garment, params);
+  ResolverReport warm = resolvePenetrationsFrom(*body.body, garment, start, params);
+  if (warm.converged) {
+    garment = std::move(start);
+    return warm;
+  }
+  warmFrom = 0;  // each frame is correct on its own: a warm start that failed is resolved cold
+  ResolverReport cold = resolvePenetrations(*body.body, garment, params);
+  cold.seconds_total += warm.seconds_total;
+  return cold;
 }
 
 }  // namespace virtual_tryon

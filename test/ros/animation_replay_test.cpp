@@ -92,7 +92,9 @@ Collector* collector = nullptr;
 
 // Every fit of `kind` ("resolve": the tube; "drape": the worn shirt) clean on its own body frame;
 // returns the frames fitted and the node's count of frames dropped.
-void checkFits(const std::string& kind, std::set<int>& fitted, std::uint64_t& dropped, int& worn) {
+// carried: the fits that started from the frame before (resolve: a warm start; drape: the worn
+// garment stepped).
+void checkFits(const std::string& kind, std::set<int>& fitted, std::uint64_t& dropped, int& carried) {
   vt::ProceduralAnimationParams p;
   p.frames = kFrames;
   const vt::ProceduralAnimation anim = vt::makeProceduralAnimation(p);
@@ -120,7 +122,8 @@ void checkFits(const std::string& kind, std::set<int>& fitted, std::uint64_t& dr
     EXPECT_LE(r->body_frame_index, static_cast<std::uint64_t>(f));
     EXPECT_EQ(r->body_refitted, r->body_frame_index > 0);
     EXPECT_EQ(f == 0, r->body_frame_index == 0);
-    if (kind == "drape" && contains(r->message, "worn garment stepped")) ++worn;
+    if (kind == "drape" && contains(r->message, "worn garment stepped")) ++carried;
+    if (kind == "resolve" && contains(r->message, "warm start from frame")) ++carried;
     dropped = std::max<std::uint64_t>(dropped, r->frames_dropped);
     std::printf("%s of frame %d: node's frame index %llu, dropped so far %llu: %s\n", kind.c_str(), f,
                 static_cast<unsigned long long>(r->body_frame_index), static_cast<unsigned long long>(r->frames_dropped),
@@ -140,16 +143,17 @@ void checkFits(const std::string& kind, std::set<int>& fitted, std::uint64_t& dr
 TEST(AnimationReplay, EveryFittedFrameIsCleanOnItsOwnBodyFrame) {
   std::set<int> resolved, worn;
   std::uint64_t dropped = 0;
-  int stepped = 0;
-  checkFits("resolve", resolved, dropped, stepped);
+  int warmed = 0, stepped = 0;
+  checkFits("resolve", resolved, dropped, warmed);
   // The pattern, draped once and worn: later frames step it (no fresh drape), and each is clean.
   checkFits("drape", worn, dropped, stepped);
-  std::printf("frames resolved %zu, worn %zu (stepped %d) of %d, dropped (node's count) %llu\n", resolved.size(),
-              worn.size(), stepped, kFrames, static_cast<unsigned long long>(dropped));
+  std::printf("frames resolved %zu (warm-started %d), worn %zu (stepped %d) of %d, dropped (node's count) %llu\n",
+              resolved.size(), warmed, worn.size(), stepped, kFrames, static_cast<unsigned long long>(dropped));
   EXPECT_TRUE(resolved.count(kFrames - 1));
   EXPECT_TRUE(worn.count(kFrames - 1));
   EXPECT_GE(resolved.size(), 2u);  // at least one frame after the first: a refitted body was fitted
   EXPECT_GE(stepped, 1) << "no frame stepped the worn garment";
+  EXPECT_GE(warmed, 1) << "no resolve started from the last fit's correction (~warm_start)";
   // No frame lost in silence, none counted twice: each is fitted (resolved, worn or both) or
   // counted as dropped.
   std::set<int> fitted = resolved;

@@ -77,6 +77,10 @@ class TryonNode {
     // correction changes by at most this from the last such fit where the frame stays clean
     // (core/resolve/temporal_coherence.h); 0: off.
     double max_jitter = 0.003;
+    // Resolving the latest garment on a later frame of the same body (topics): start from its input
+    // moved by the last such fit's correction, resolved and checked whole (resolvePenetrationsFrom);
+    // a warm start that does not converge is resolved again from the input alone.
+    bool warm_start = true;
   };
 
   // A body with its frame and what was found in it; the Body (and its BVH) is shared, never
@@ -218,6 +222,13 @@ class TryonNode {
   // Temporal coherence of a resolve of the topics' garment on a frame of a topic body (resolve()).
   std::string keepCoherent(const BodyState& body, TriMesh& garment, const MatrixX3d& input, bool converged,
                            double clearance);
+  // resolve()'s resolver run: warm from the last fit when `topicFrame` and ~warm_start allow it
+  // (sets `warmFrom` to that fit's frame index + 1; 0: cold).
+  ResolverReport resolveFrame(const BodyState& body, TriMesh& garment, const ResolverParams& params,
+                              bool topicFrame, std::uint64_t& warmFrom);
+  // last_resolved_ is a fit of this garment's faces on an earlier frame of this body (call with
+  // resolved_mutex_ held).
+  bool lastResolvedPrecedes(const BodyState& body, const TriMesh& garment) const;
 
   ros::NodeHandle nh_, pnh_;
   Settings settings_;  // written once in the constructor, read-only afterwards
