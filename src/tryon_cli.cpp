@@ -112,7 +112,7 @@ std::string usage() {
          "      xvfb-run. drape --render PREFIX writes the same pictures of a drape, coloured by\n"
          "      the strain of its structural springs.\n"
          "  tryon animate resolve --body B.obj --body-cache B.pc2 --garment G.obj --garment-cache G.pc2\n"
-         "                --out OUT.pc2 [--check] [--max-jitter M] [--cold] [--clearance M]\n"
+         "                --out OUT.pc2 [--check] [--max-jitter M] [--cold] [--warm-min M] [--clearance M]\n"
          "                [--max-iterations N] [--objective ...]\n"
          "      Resolves every frame of an animated garment on an animated body (Point Cache 2, in\n"
          "      the rest meshes' vertex order; Sun et al. 2016's garment animation synthesis).\n"
@@ -123,6 +123,8 @@ std::string usage() {
          "      the previous frame's correction (a warm start: still resolved and checked whole, its\n"
          "      shape kept against its own input; a warm frame that does not converge is resolved\n"
          "      again from its input); --cold resolves every frame from its input alone.\n"
+         "      --warm-min M (default 0.002): only corrections of at least M are carried over (the\n"
+         "      smaller ones, spread by the relaxation, would spread further every frame).\n"
          "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
@@ -544,6 +546,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   const vt::ResolverParams params = resolverParams(opt);
   const bool check = opt.count("check") > 0;
   const bool warm = opt.count("cold") == 0;
+  const double warmMin = number(opt, "warm-min", 0.002);
+  if (!(warmMin >= 0 && warmMin <= 1)) throw Usage("--warm-min must be in [0, 1] m");
   std::size_t coldFallbacks = 0;
   vt::CoherenceParams coherenceParams;
   coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
@@ -574,7 +578,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     // correct on its own) and relaxes it against this frame's input. Where a warm frame does not
     // converge, the frame is resolved again from its input alone.
     bool warmNow = warm && previousCorrection.rows() == garment.V.rows();
-    if (warmNow) garment.V += previousCorrection;
+    if (warmNow) garment.V = vt::warmStart(input.V, previousCorrection, warmMin);
     vt::ResolverReport rep = warmNow ? vt::resolvePenetrationsFrom(body, input, garment, params)
                                      : vt::resolvePenetrations(body, garment, params);
     if (warmNow && !rep.converged) {
@@ -658,6 +662,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
       .add("jitter_max_m", jitterMax)
       .add("max_jitter_m", coherenceParams.max_change)
       .add("warm_start", warm)
+      .add("warm_min_m", warmMin)
       .add("warm_frames_resolved_cold", coldFallbacks)
       .add("vertices_over_max_jitter", coherenceCandidates)
       .add("vertices_left_over_max_jitter", coherenceHeld)
@@ -896,7 +901,7 @@ int main(int argc, char** argv) {
         return animateDrape(opt);
       }
       if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
-      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "max-jitter", "clearance",
+      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "warm-min", "max-jitter", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);
     }

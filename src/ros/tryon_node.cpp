@@ -431,7 +431,7 @@ ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, 
   if (topicFrame && settings_.warm_start) {
     std::lock_guard<std::mutex> lock(resolved_mutex_);
     if (lastResolvedPrecedes(body, garment)) {
-      start.V += last_resolved_.correction;
+      start.V = warmStart(garment.V, last_resolved_.correction);
       warmFrom = last_resolved_.frame_index + 1;
     }
   }

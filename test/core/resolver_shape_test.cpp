@@ -164,3 +164,19 @@ TEST(ResolverShape, WarmStartRefusesAnInputOfAnotherSizeAndMovesNothing) {
   EXPECT_FALSE(rep.reason.empty());
   EXPECT_EQ((garment.V - s.garment.V).cwiseAbs().maxCoeff(), 0.0);
 }
+
+TEST(ResolverShape, WarmStartCarriesOnlyCorrectionsOfAtLeastTheMinimum) {
+  MatrixX3d input = MatrixX3d::Zero(3, 3);
+  input(2, 0) = 1;
+  MatrixX3d correction = MatrixX3d::Zero(3, 3);
+  correction(0, 1) = 0.0019;  // spread by a relaxation: not carried
+  correction(1, 1) = 0.004;   // a push: carried
+  correction(2, 2) = 0.002;   // at the minimum: carried
+  const MatrixX3d start = warmStart(input, correction, 0.002);
+  EXPECT_EQ(start.row(0), input.row(0));
+  EXPECT_EQ(start.row(1), input.row(1) + correction.row(1));
+  EXPECT_EQ(start.row(2), input.row(2) + correction.row(2));
+  EXPECT_EQ(warmStart(input, correction, 0).row(0), correction.row(0));
+  // A correction of another size starts from the input.
+  EXPECT_EQ(warmStart(input, MatrixX3d::Zero(2, 3)), input);
+}

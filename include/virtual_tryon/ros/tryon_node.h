@@ -78,7 +78,8 @@ class TryonNode {
     // (core/resolve/temporal_coherence.h); 0: off.
     double max_jitter = 0.003;
     // Resolving the latest garment on a later frame of the same body (topics): start from its input
-    // moved by the last such fit's correction, resolved and checked whole (resolvePenetrationsFrom);
+    // moved by the last such fit's correction (warmStart: where it is 2 mm or more), resolved and
+    // checked whole (resolvePenetrationsFrom);
     // a warm start that does not converge is resolved again from the input alone.
     bool warm_start = true;
   };

@@ -65,4 +65,12 @@ ResolverReport resolvePenetrationsFrom(const Body& body, const TriMesh& input, T
   return runStages(run, params);
 }
 
+MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double minCarried) {
+  MatrixX3d start = input;
+  if (correction.rows() != input.rows() || correction.cols() != input.cols()) return start;
+  for (Eigen::Index v = 0; v < input.rows(); ++v)
+    if (correction.row(v).norm() >= minCarried) start.row(v) += correction.row(v);
+  return start;
+}
+
 }  // namespace virtual_tryon
