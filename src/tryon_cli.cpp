@@ -123,8 +123,9 @@ std::string usage() {
          "      the previous frame's correction (a warm start: still resolved and checked whole, its\n"
          "      shape kept against its own input; a warm frame that does not converge is resolved\n"
          "      again from its input); --cold resolves every frame from its input alone.\n"
-         "      --warm-min M (default 0.002): only corrections of at least M are carried over (the\n"
-         "      smaller ones, spread by the relaxation, would spread further every frame).\n"
+         "      --warm-min M (default " + g(vt::kWarmStartMinCorrection) + "): only corrections of at least M\n"
+         "      are carried over (the smaller ones, spread by the relaxation, would spread further\n"
+         "      every frame).\n"
          "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
@@ -546,7 +547,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   const vt::ResolverParams params = resolverParams(opt);
   const bool check = opt.count("check") > 0;
   const bool warm = opt.count("cold") == 0;
-  const double warmMin = number(opt, "warm-min", 0.002);
+  const double warmMin = number(opt, "warm-min", vt::kWarmStartMinCorrection);
   if (!(warmMin >= 0 && warmMin <= 1)) throw Usage("--warm-min must be in [0, 1] m");
   std::size_t coldFallbacks = 0;
   vt::CoherenceParams coherenceParams;
@@ -571,24 +572,16 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     last = std::move(next);
     const vt::Body& body = *last;
     const double bodyMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const vt::TriMesh input{garmentCache.samples[f], garmentRest.F};
-    vt::TriMesh garment = input;
+    vt::TriMesh garment{garmentCache.samples[f], garmentRest.F};
     // Warm start (the default; --cold turns it off): the frame starts from its input moved by the
     // previous frame's correction, and the resolver checks and fixes it as a whole (each frame is
     // correct on its own) and relaxes it against this frame's input. Where a warm frame does not
     // converge, the frame is resolved again from its input alone.
-    bool warmNow = warm && previousCorrection.rows() == garment.V.rows();
-    if (warmNow) garment.V = vt::warmStart(input.V, previousCorrection, warmMin);
-    vt::ResolverReport rep = warmNow ? vt::resolvePenetrationsFrom(body, input, garment, params)
-                                     : vt::resolvePenetrations(body, garment, params);
-    if (warmNow && !rep.converged) {
-      ++coldFallbacks;
-      const double warmSeconds = rep.seconds_total;
-      garment = input;
-      rep = vt::resolvePenetrations(body, garment, params);
-      rep.seconds_total += warmSeconds;
-      warmNow = false;
-    }
+    vt::FrameStart start = vt::FrameStart::Cold;
+    const vt::ResolverReport rep =
+        vt::resolveFrame(body, garment, warm ? previousCorrection : vt::MatrixX3d(), params, warmMin, &start);
+    const bool warmNow = start == vt::FrameStart::Warm;
+    if (start == vt::FrameStart::WarmFailedResolvedCold) ++coldFallbacks;
     // Where the correction jumped since the frame before, the clean position nearest to the
     // previous correction (core/resolve/temporal_coherence.h).
     vt::CoherenceReport coherence;
@@ -603,8 +596,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ms.push_back(frameMs);
     const vt::MatrixX3d correction = garment.V - garmentCache.samples[f];
-    // Edge strain against this frame's own input (with --warm-start the resolver's report measures
-    // against the warm-started positions instead).
+    // Edge strain against this frame's own input, after the coherence step (the resolver's report
+    // measures before it).
     double strainVsInput = 0;
     for (double v : vt::vertexEdgeStrain(vt::TriMesh{garmentCache.samples[f], garmentRest.F}, garment.V))
       strainVsInput = std::max(strainVsInput, v);

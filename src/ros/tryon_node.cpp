@@ -427,24 +427,19 @@ bool TryonNode::lastResolvedPrecedes(const BodyState& body, const TriMesh& garme
 ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, const ResolverParams& params,
                                        bool topicFrame, std::uint64_t& warmFrom) {
   warmFrom = 0;
-  TriMesh start = garment;
+  MatrixX3d previousCorrection;
   if (topicFrame && settings_.warm_start) {
     std::lock_guard<std::mutex> lock(resolved_mutex_);
     if (lastResolvedPrecedes(body, garment)) {
-      start.V = warmStart(garment.V, last_resolved_.correction);
+      previousCorrection = last_resolved_.correction;
       warmFrom = last_resolved_.frame_index + 1;
     }
   }
-  if (warmFrom == 0) return resolvePenetrations(*body.body, garment, params);
-  ResolverReport warm = resolvePenetrationsFrom(*body.body, garment, start, params);
-  if (warm.converged) {
-    garment = std::move(start);
-    return warm;
-  }
-  warmFrom = 0;  // each frame is correct on its own: a warm start that failed is resolved cold
-  ResolverReport cold = resolvePenetrations(*body.body, garment, params);
-  cold.seconds_total += warm.seconds_total;
-  return cold;
+  FrameStart start = FrameStart::Cold;
+  const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previousCorrection, params,
+                                                            kWarmStartMinCorrection, &start);
+  if (start != FrameStart::Warm) warmFrom = 0;
+  return report;
 }
 
 }  // namespace virtual_tryon

@@ -73,4 +73,27 @@ MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double 
   return start;
 }
 
+ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
+                            const ResolverParams& params, double minCarried, FrameStart* start) {
+  FrameStart how = FrameStart::Cold;
+  ResolverReport rep;
+  if (previousCorrection.rows() == garment.V.rows() && previousCorrection.cols() == 3) {
+    TriMesh warm{warmStart(garment.V, previousCorrection, minCarried), garment.F};
+    rep = resolvePenetrationsFrom(body, garment, warm, params);
+    if (rep.converged) {
+      garment = std::move(warm);
+      how = FrameStart::Warm;
+    } else {
+      const double warmSeconds = rep.seconds_total;
+      rep = resolvePenetrations(body, garment, params);
+      rep.seconds_total += warmSeconds;
+      how = FrameStart::WarmFailedResolvedCold;
+    }
+  } else {
+    rep = resolvePenetrations(body, garment, params);
+  }
+  if (start) *start = how;
+  return rep;
+}
+
 }  // namespace virtual_tryon

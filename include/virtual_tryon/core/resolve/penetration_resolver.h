@@ -157,12 +157,27 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment,
 ResolverReport resolvePenetrationsFrom(const Body& body, const TriMesh& input, TriMesh& garment,
                                        const ResolverParams& params = ResolverParams());
 
+// m: the smallest correction that warmStart() carries over, by default.
+constexpr double kWarmStartMinCorrection = 0.002;
+
 // The warm start of an animation frame: `input` (#V by 3) moved by the previous frame's
 // `correction` (resolved minus input, #V by 3) on the vertices where that correction is at least
 // `minCarried` metres. The smaller ones are mostly what the shape relaxation spread round a push;
 // carried over, they would be spread a few rings further every frame, until the whole garment
 // floats off its input (on the walk's skirt: 161 vertices that started over 1 cm from the body
 // moved by frame 30, against 39 cold; 5 with the 2 mm default). Sizes that do not match: `input`.
-MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double minCarried = 0.002);
+MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double minCarried = kWarmStartMinCorrection);
+
+// How resolveFrame() started a frame.
+enum class FrameStart { Cold, Warm, WarmFailedResolvedCold };
+
+// One frame of an animation: `garment` comes in as the frame's input and leaves resolved. With a
+// `previousCorrection` of its size, it starts from warmStart(input, previousCorrection, minCarried)
+// (resolvePenetrationsFrom); a warm start that does not converge is resolved again from the input
+// alone, its time added, so the frame is correct on its own whatever the frame before did. Else
+// (empty correction, say) resolvePenetrations. `start` (may be null) says which it was.
+ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
+                            const ResolverParams& params = ResolverParams(), double minCarried = kWarmStartMinCorrection,
+                            FrameStart* start = nullptr);
 
 }  // namespace virtual_tryon
