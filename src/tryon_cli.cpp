@@ -628,6 +628,9 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         .add("ms_detection", 1e3 * rep.seconds_detection)
         .add("ms_solve", 1e3 * rep.seconds_solve)
         .add("ms_relaxation", 1e3 * rep.seconds_relaxation)
+        .add("ms_relaxation_setup", 1e3 * rep.relaxation.seconds_setup)
+        .add("ms_relaxation_rotations", 1e3 * rep.relaxation.seconds_rotations)
+        .add("ms_relaxation_checks", 1e3 * rep.relaxation.seconds_checks)
         .add("relaxed_vertices", rep.relaxation.active_vertices)
         .add("relaxation_sweeps", rep.relaxation.sweeps)
         .add("warm_start", warmNow);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace virtual_tryon {
 
@@ -62,9 +63,25 @@ Body::Body(Body&& previous, MatrixX3d V) {
 }
 
 // The shared part of both frame constructors: the frame's own geometry over the lists of the
-// frame before, and its trees (when it had them) refitted to this frame's vertices.
+// frame before, and its trees (when it had them) refitted to this frame's vertices. The trees are
+// refitted on a thread of their own while this one computes the normals (both only read the
+// vertices and faces; the thread is joined before the trees are used, however this returns).
 void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
                       std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees) {
+  double treeSeconds = 0;
+  std::thread refit;
+  if (trees)
+    refit = std::thread([this, &trees, &treeSeconds] {
+      const auto t0 = std::chrono::steady_clock::now();
+      trees->refit(mesh_);
+      treeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    });
+  struct Join {
+    std::thread& t;
+    ~Join() {
+      if (t.joinable()) t.join();
+    }
+  } join{refit};
   std::call_once(adjacency_once_, [&] {
     edges_ = std::move(edges);
     face_edges_ = std::move(faceEdges);
@@ -78,15 +95,14 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
     vertex_faces_ = std::move(vertexFaces);
     vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
   });
-  if (trees)
-    std::call_once(bvh_once_, [&] {
-      const auto t0 = std::chrono::steady_clock::now();
-      trees->refit(mesh_);
-      bvh_ = std::move(trees);
-      bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      bvh_built_ = true;
-      bvh_refitted_ = true;
-    });
+  if (!trees) return;
+  refit.join();
+  std::call_once(bvh_once_, [&] {
+    bvh_ = std::move(trees);
+    bvh_seconds_ = treeSeconds;
+    bvh_built_ = true;
+    bvh_refitted_ = true;
+  });
 }
 
 void Body::computeEdgeNormals() const {
