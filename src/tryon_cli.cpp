@@ -554,7 +554,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
   if (!(coherenceParams.max_change >= 0 && coherenceParams.max_change <= 1))
     throw Usage("--max-jitter must be in [0, 1] m (0: off)");
-  std::size_t coherenceCandidates = 0, coherenceHeld = 0;
+  std::size_t coherenceCandidates = 0, coherenceHeld = 0, coherenceForced = 0;
+  double jitterMaxUnforced = 0;
   vt::PointCache result = garmentCache;
   std::vector<double> ms;
   double jitterMax = 0;
@@ -592,6 +593,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
       coherence = vt::limitCorrectionChange(body, garment, garmentCache.samples[f], previousCorrection, cp);
       coherenceCandidates += coherence.candidates;
       coherenceHeld += coherence.held + coherence.partly;
+      coherenceForced += coherence.forced_by_input;
     }
     const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ms.push_back(frameMs);
@@ -604,7 +606,10 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     const double jitter = previousCorrection.rows() == correction.rows()
                               ? (correction - previousCorrection).rowwise().norm().maxCoeff()
                               : 0.0;
-    if (f > 0) jitterMax = std::max(jitterMax, jitter);
+    if (f > 0) {
+      jitterMax = std::max(jitterMax, jitter);
+      jitterMaxUnforced = std::max(jitterMaxUnforced, coherent ? coherence.change_after_unforced : jitter);
+    }
     previousCorrection = correction;
     result.samples[f] = garment.V;
     if (!rep.converged) ++notConverged;
@@ -640,6 +645,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
                                  .add("limited", coherence.limited)
                                  .add("partly", coherence.partly)
                                  .add("held", coherence.held)
+                                 .add("forced_by_input", coherence.forced_by_input)
                                  .add("jitter_as_resolved_m", coherence.change_before)
                                  .add("ms", 1e3 * coherence.seconds)
                                  .str());
@@ -662,6 +668,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
       .add("warm_frames_resolved_cold", coldFallbacks)
       .add("vertices_over_max_jitter", coherenceCandidates)
       .add("vertices_left_over_max_jitter", coherenceHeld)
+      .add("vertices_left_over_forced_by_input", coherenceForced)
+      .add("jitter_max_unforced_m", jitterMaxUnforced)
       .add("body_trees_refitted", refitted)
       .add("body_trees_built", ms.size() - refitted)
       .add("rebuilt_per_frame", std::string("body normals, bounds, volume"))

@@ -3,6 +3,7 @@
 // resolver's decisions), every frame resolved on its own. Bringing each correction's change within
 // the limit keeps every frame clean by the independent referee.
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/core/resolve/temporal_coherence.h"
 #include "virtual_tryon/core/scenes/procedural.h"
@@ -78,4 +79,47 @@ TEST(TemporalCoherence, SizesThatDoNotMatchLeaveTheGarmentAlone) {
   const CoherenceReport c = limitCorrectionChange(body, garment, before, MatrixX3d::Zero(3, 3));
   EXPECT_FALSE(c.message.empty());
   EXPECT_EQ(garment.V, before);
+}
+
+// A vertex whose previous correction, on this frame's input, lies 1 cm inside the body cannot come
+// within 3 mm of it and stay clean: it is left over and counted as forced by the input (the
+// body's own queries confirm the point is inside and that deep). One whose previous correction lies
+// 5 mm further out is brought to 3 mm from it, and is not counted.
+TEST(TemporalCoherence, AChangeTheInputForcesIsCountedAsForced) {
+  const ResolveScene scene = makeWrinkledTubeScene();
+  const Body body(scene.body);
+  const MatrixX3d input = scene.garment.V;
+  TriMesh garment{input, scene.garment.F};
+  ASSERT_TRUE(resolvePenetrations(body, garment, ResolverParams()).converged);
+  const MatrixX3d correction = garment.V - input;
+  MatrixX3d previous = correction;
+  // The deep vertex: its nearest body point moved 1 cm into the body along that face's normal.
+  const int deep = 0, outside = static_cast<int>(input.rows() / 2);
+  const ClosestPoint cp = closestPointOnBody(body, garment.V.row(deep).transpose());
+  const Eigen::Vector3d inside = cp.point - 0.01 * body.faceNormals().row(cp.face).transpose();
+  ASSERT_TRUE(pointInsideBody(body, inside));
+  ASSERT_GT(closestPointOnBody(body, inside).distance, 0.003);
+  previous.row(deep) = inside.transpose() - input.row(deep);
+  // The other: its previous correction 5 mm further out than now, along its body normal.
+  const ClosestPoint co = closestPointOnBody(body, garment.V.row(outside).transpose());
+  previous.row(outside) += 0.005 * body.faceNormals().row(co.face);
+  CoherenceParams cp3;
+  cp3.max_change = 0.003;
+  const CoherenceReport c = limitCorrectionChange(body, garment, input, previous, cp3);
+  ASSERT_TRUE(c.message.empty()) << c.message;
+  EXPECT_EQ(c.candidates, 2u);
+  EXPECT_EQ(c.forced_by_input, 1u);
+  EXPECT_EQ(c.limited, 1u);  // the outer one, brought to 3 mm: over the limit only where forced
+  EXPECT_GE(c.partly + c.held, c.forced_by_input);
+  const Eigen::RowVector3d deepChange = (garment.V.row(deep) - input.row(deep)) - previous.row(deep);
+  EXPECT_GT(deepChange.norm(), 0.003);
+  EXPECT_NEAR(c.change_after, ((garment.V - input) - previous).rowwise().norm().maxCoeff(), 1e-12);
+  // Without the deep vertex, the largest change is the unforced one.
+  double unforced = 0;
+  for (Eigen::Index v = 0; v < input.rows(); ++v)
+    if (v != deep) unforced = std::max(unforced, ((garment.V.row(v) - input.row(v)) - previous.row(v)).norm());
+  EXPECT_NEAR(c.change_after_unforced, unforced, 1e-12);
+  EXPECT_LE(c.change_after_unforced, c.change_after);
+  const ReferenceCounts counts = referenceCounts(body.mesh(), garment, body.closed());
+  EXPECT_EQ(counts.garment_edge_crossings + counts.body_edge_crossings + counts.vertices_inside, 0u);
 }

@@ -52,6 +52,14 @@ class MoveCheck {
   CrossingSet crossings_;
 };
 
+// The previous correction on this frame's input, p, lies inside the body deeper than `limit`:
+// every clean position is outside, and a segment from p to a point outside leaves through the
+// surface, at least p's depth away, so no clean position is within `limit` of p.
+bool forcedByInput(const Body& body, const Eigen::RowVector3d& p, double limit) {
+  const Eigen::Vector3d q = p.transpose();
+  return pointInsideBody(body, q) && closestPointOnBody(body, q).distance > limit;
+}
+
 }  // namespace
 
 CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const MatrixX3d& input,
@@ -63,7 +71,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     rep.message = "the input and the previous correction need the garment's " + std::to_string(n) + " rows";
     return rep;
   }
-  rep.change_before = rep.change_after = largestChange(garment, input, previousCorrection);
+  rep.change_before = rep.change_after = rep.change_after_unforced = largestChange(garment, input, previousCorrection);
   const double limit = params.max_change;
   if (!(limit > 0) || rep.change_before <= limit) return rep;
   std::vector<int> over;
@@ -99,14 +107,26 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     }
     if (!moved) break;
   }
+  std::vector<char> forced(static_cast<std::size_t>(n), 0);
   for (int v : over) {
     const double before = ((resolved.row(v) - input.row(v)) - previousCorrection.row(v)).norm();
     const double after = ((garment.V.row(v) - input.row(v)) - previousCorrection.row(v)).norm();
-    if (after <= limit * (1 + 1e-9)) ++rep.limited;
-    else if (after < before) ++rep.partly;
-    else ++rep.held;
+    if (after <= limit * (1 + 1e-9)) {
+      ++rep.limited;
+      continue;
+    }
+    ++(after < before ? rep.partly : rep.held);
+    if (forcedByInput(body, input.row(v) + previousCorrection.row(v), limit)) {
+      forced[static_cast<std::size_t>(v)] = 1;
+      ++rep.forced_by_input;
+    }
   }
   rep.change_after = largestChange(garment, input, previousCorrection);
+  rep.change_after_unforced = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (!forced[static_cast<std::size_t>(v)])
+      rep.change_after_unforced = std::max(rep.change_after_unforced,
+                                           ((garment.V.row(v) - input.row(v)) - previousCorrection.row(v)).norm());
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -35,6 +35,11 @@ struct CoherenceReport {
   std::size_t held = 0;        // left where the resolver put them (no clean move)
   double change_before = 0;    // m: the largest change of a correction, as resolved
   double change_after = 0;     // m: the same after
+  // Of the vertices still over max_change (partly + held), those the input forces: the previous
+  // correction on this frame's input lies inside the body deeper than max_change, and a clean
+  // position is outside it, so none is within max_change of the previous correction.
+  std::size_t forced_by_input = 0;
+  double change_after_unforced = 0;  // m: change_after over the vertices not forced
   double seconds = 0;
   std::string message;         // why nothing was done (sizes), else empty
 };
