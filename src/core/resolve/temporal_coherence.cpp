@@ -121,12 +121,12 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
       ++rep.forced_by_input;
     }
   }
-  rep.change_after = largestChange(garment, input, previousCorrection);
-  rep.change_after_unforced = 0;
-  for (Eigen::Index v = 0; v < n; ++v)
-    if (!forced[static_cast<std::size_t>(v)])
-      rep.change_after_unforced = std::max(rep.change_after_unforced,
-                                           ((garment.V.row(v) - input.row(v)) - previousCorrection.row(v)).norm());
+  const Eigen::VectorXd change = ((garment.V - input) - previousCorrection).rowwise().norm();
+  rep.change_after = rep.change_after_unforced = 0;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    rep.change_after = std::max(rep.change_after, change(v));
+    if (!forced[static_cast<std::size_t>(v)]) rep.change_after_unforced = std::max(rep.change_after_unforced, change(v));
+  }
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }
