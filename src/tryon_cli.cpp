@@ -3,6 +3,7 @@
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/drape/frames_ahead.h"
 #include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/io/json_object.h"
 #include "virtual_tryon/core/io/mesh_io.h"
@@ -172,7 +173,7 @@ struct Usage : std::runtime_error {
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "cold", "no-body-velocity",
                                       "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
-                                      "no-resolve-relaxed", "no-carry"};
+                                      "no-resolve-relaxed", "no-carry", "sequential"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -771,13 +772,23 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   double strainMax = 0;
   std::vector<double> ms;
   std::string failure;
-  for (int f = 1; f < frames && failure.empty(); ++f) {
-    const auto tf = std::chrono::steady_clock::now();
-    body = std::make_unique<vt::Body>(std::move(*body), bodyCache.samples[static_cast<std::size_t>(f)]);
-    const double msBody = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - tf).count();
-    const vt::WornFrameReport r = worn.follow(*body, 1.0 / fps);
-    const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - tf).count();
-    vt::json::Obj line = wornFrameJson(static_cast<std::size_t>(f), r, msBody, frameMs);
+  // Frame f + 1's body and maps are made ready on a second thread while the cloth steps through
+  // frame f (--sequential: one after the other). A frame's ms is the wall time from the end of the
+  // frame before to its end: with frames made ahead, what each costs in a run of them.
+  const std::vector<vt::MatrixX3d> bodyFrames(bodyCache.samples.begin(), bodyCache.samples.begin() + frames);
+  vt::FramesAhead ahead(std::move(body), bodyFrames, worn.mapRenderer(), 1.0 / fps, !opt.count("sequential"));
+  auto tf = std::chrono::steady_clock::now();
+  while (!ahead.done() && failure.empty()) {
+    vt::FramesAhead::Frame next = ahead.next();
+    const int f = next.index;
+    const vt::Body* frameBody = next.body;
+    const double msRender = 1e3 * next.maps.seconds_render;
+    const vt::WornFrameReport r = worn.follow(*frameBody, std::move(next.maps));
+    const auto now = std::chrono::steady_clock::now();
+    const double frameMs = 1e3 * std::chrono::duration<double>(now - tf).count();
+    tf = now;
+    vt::json::Obj line = wornFrameJson(static_cast<std::size_t>(f), r, 1e3 * next.seconds_body, frameMs);
+    line.add("ms_waited", 1e3 * next.seconds_waited).add("ms_ahead", 1e3 * next.seconds_body + msRender);
     if (!r.success) {
       failure = "frame " + std::to_string(f) + ": " + r.message;
     } else {
@@ -788,7 +799,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
       if (r.grid_rebuilt) ++gridRebuilt;
       if (r.carried) ++carried;
       if (check) {
-        const vt::ReferenceCounts c = vt::referenceCounts(body->mesh(), worn.garment(), body->closed());
+        const vt::ReferenceCounts c = vt::referenceCounts(frameBody->mesh(), worn.garment(), frameBody->closed());
         if (c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside) ++refereeDirty;
         line.json("referee", vt::toJson(c));
       }
@@ -898,7 +909,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

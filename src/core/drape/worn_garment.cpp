@@ -45,11 +45,11 @@ constexpr double kMaxSurfaceSpeed = 5.0;
 // a depth that jumps).
 class MovingMaps {
  public:
-  MovingMaps(const WornGarment::FrameMaps& a, const WornGarment::FrameMaps& b, double seconds, bool interpolate,
+  MovingMaps(const FrameMaps& a, const FrameMaps& b, double seconds, bool interpolate,
              bool velocity)
       : a_(*a.front), b_(*b.front), inv_t_(1.0 / seconds), interpolate_(interpolate), velocity_(velocity) {
-    for (std::size_t k = 0; k < WornGarment::kOtherViews.size(); ++k)
-      if (a.other[k] && b.other[k]) others_.push_back({WornGarment::kOtherViews[k], a.other[k].get(), b.other[k].get()});
+    for (std::size_t k = 0; k < FrameMaps::kOtherViews.size(); ++k)
+      if (a.other[k] && b.other[k]) others_.push_back({FrameMaps::kOtherViews[k], a.other[k].get(), b.other[k].get()});
   }
   void setTime(double s) { s_ = s; }
 
@@ -144,20 +144,13 @@ bool sameGrid(const MapGrid& a, const MapGrid& b) {
 WornGarment::WornGarment(WornGarmentParams params) : params_(std::move(params)) {}
 WornGarment::~WornGarment() = default;
 
-MapGrid WornGarment::gridAround(const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax) const {
-  const Eigen::Vector3d grow(params_.grid_margin, params_.grid_margin, 0);
-  const Eigen::Vector3d lo = boxMin - grow, hi = boxMax + grow;
-  const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-  const int size = std::clamp(static_cast<int>(std::ceil(extent / pixel_ - 1e-9)), 16, 16384);
-  return mapGridFor(lo, hi, size, params_.drape.collision.tol);
-}
-
 DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const DrapeProgressCallback& progress,
                                int progress_every) {
   cloth_.reset();
   garment_ = TriMesh();
   strain_.clear();
   maps_ = FrameMaps();
+  renderer_ = WornMapRenderer();
   body_V_.resize(0, 3);
   clean_V_.resize(0, 3);
   clean_body_V_.resize(0, 3);
@@ -185,14 +178,7 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   strain_ = rep.vertex_strain;
   cloth_->setStrainRestore(params_.strain_restore);
   // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
-  pixel_ = body.depthMaps(params_.drape.collision)->pixelSize();
-  grid_ = gridAround(body.boxMin(), body.boxMax());
-  for (std::size_t k = 0; k < kOtherViews.size(); ++k) {
-    Eigen::Vector3d lo, hi;
-    viewBox(kOtherViews[k], body, lo, hi);
-    other_grid_[k] = gridAround(lo, hi);
-  }
-  maps_ = renderMaps(body, nullptr);
+  renderer_ = WornMapRenderer(mapParams(), body, body.depthMaps(params_.drape.collision)->pixelSize(), maps_);
   body_V_ = body.mesh().V;
   clean_V_ = garment_.V;
   clean_body_V_ = body_V_;
@@ -209,38 +195,12 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   return rep;
 }
 
-bool WornGarment::viewOn(std::size_t k) const {
-  return kOtherViews[k] == MapView::Top ? params_.top_view : params_.side_view;
-}
-
-void WornGarment::viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
-  lo.setConstant(std::numeric_limits<double>::infinity());
-  hi = -lo;
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d corner((c & 1 ? body.boxMax() : body.boxMin()).x(), (c & 2 ? body.boxMax() : body.boxMin()).y(),
-                                 (c & 4 ? body.boxMax() : body.boxMin()).z());
-    const Eigen::Vector3d q = viewPoint(v, corner);
-    lo = lo.cwiseMin(q);
-    hi = hi.cwiseMax(q);
-  }
-}
-
-// The views are rendered side by side on the hardware threads (each view on its own).
-WornGarment::FrameMaps WornGarment::renderMaps(const Body& body, const MatrixX3d* velocity) const {
-  FrameMaps m;
-  std::vector<int> views{-1};  // -1: the front pair; k: kOtherViews[k]
-  for (std::size_t k = 0; k < kOtherViews.size(); ++k)
-    if (viewOn(k)) views.push_back(static_cast<int>(k));
-  parallelItems(static_cast<int>(views.size()), 2, [&](int i) {
-    const int k = views[static_cast<std::size_t>(i)];
-    if (k < 0)
-      m.front = velocity ? std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_, *velocity)
-                         : std::make_shared<const DepthMaps>(body.mesh(), params_.drape.collision, grid_);
-    else
-      m.other[static_cast<std::size_t>(k)] = std::make_shared<const DepthMaps>(
-          viewMesh(kOtherViews[static_cast<std::size_t>(k)], body.mesh()), params_.drape.collision,
-          other_grid_[static_cast<std::size_t>(k)]);
-  });
+WornMapParams WornGarment::mapParams() const {
+  WornMapParams m;
+  m.collision = params_.drape.collision;
+  m.grid_margin = params_.grid_margin;
+  m.skin_velocity = params_.body_velocity && params_.skin_velocity;
+  m.views = {params_.top_view, params_.side_view};
   return m;
 }
 
@@ -485,37 +445,39 @@ bool WornGarment::correctCarried(const Body& next, bool failed, bool whole, doub
   return true;
 }
 
+bool WornGarment::refused(double seconds, WornFrameReport& rep) const {
+  if (!worn())
+    rep.message = "no garment is worn: dress() it first";
+  else if (!(seconds > 0) || !std::isfinite(seconds))
+    rep.message = "the frame interval must be a positive number of seconds (got " + num(seconds) + ")";
+  else
+    return false;
+  return true;
+}
+
 WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   const auto t0 = Clock::now();
   WornFrameReport rep;
-  if (!worn()) {
-    rep.message = "no garment is worn: dress() it first";
+  if (refused(seconds, rep)) return rep;
+  return follow(next, renderer_.render(next, seconds), t0);
+}
+
+WornFrameReport WornGarment::follow(const Body& next, WornFrameMaps maps) {
+  return follow(next, std::move(maps), Clock::now());
+}
+
+WornFrameReport WornGarment::follow(const Body& next, WornFrameMaps prepared, std::chrono::steady_clock::time_point t0) {
+  WornFrameReport rep;
+  const double seconds = prepared.seconds;
+  if (refused(seconds, rep)) return rep;
+  if (!prepared.maps.front || prepared.body_V.rows() != next.mesh().V.rows()) {
+    rep.message = "the frame's maps were not rendered for this body";
     return rep;
   }
-  if (!(seconds > 0) || !std::isfinite(seconds)) {
-    rep.message = "the frame interval must be a positive number of seconds (got " + num(seconds) + ")";
-    return rep;
-  }
-  // The new frame's maps, on the shared grid when the body is still inside it.
   const auto tMaps = Clock::now();
-  if (!grid_.holds(next.boxMin(), next.boxMax())) {
-    grid_ = gridAround(next.boxMin(), next.boxMax());
-    rep.grid_rebuilt = true;
-  }
-  for (std::size_t k = 0; k < kOtherViews.size(); ++k) {
-    if (!viewOn(k)) continue;
-    Eigen::Vector3d lo, hi;
-    viewBox(kOtherViews[k], next, lo, hi);
-    if (!other_grid_[k].holds(lo, hi)) {
-      other_grid_[k] = gridAround(lo, hi);
-      rep.grid_rebuilt = true;
-    }
-  }
-  // The skin's velocity over the interval, for frames of one body (same vertices).
-  MatrixX3d velocity;
-  const bool skin = params_.body_velocity && params_.skin_velocity && body_V_.rows() == next.mesh().V.rows();
-  if (skin) velocity = (next.mesh().V - body_V_) / seconds;
-  FrameMaps to = renderMaps(next, skin ? &velocity : nullptr);
+  renderer_.adopt(prepared);
+  rep.grid_rebuilt = prepared.grid_rebuilt;
+  FrameMaps to = std::move(prepared.maps);
   // Each view is interpolated on its own grid; one whose grid was rebuilt (the top view's x-z box
   // once a walk has carried the body past its margin) uses the new frame's maps throughout.
   rep.interpolated = params_.interpolate && sameGrid(maps_.front->grid(), to.front->grid());
@@ -524,7 +486,7 @@ WornFrameReport WornGarment::follow(const Body& next, double seconds) {
   for (std::size_t k = 0; k < kOtherViews.size(); ++k)
     if (params_.interpolate && to.other[k] && maps_.other[k] && sameGrid(maps_.other[k]->grid(), to.other[k]->grid()))
       from.other[k] = maps_.other[k];
-  rep.seconds_maps = since(tMaps);
+  rep.seconds_maps = prepared.seconds_render + since(tMaps);
   const auto tCloth = Clock::now();
   if (!stepFrame(from, to, seconds, rep)) {
     rep.seconds_total = since(t0);

@@ -12,8 +12,10 @@
 #pragma once
 
 #include "virtual_tryon/core/drape/drape.h"
+#include "virtual_tryon/core/drape/worn_maps.h"
 
 #include <array>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -136,25 +138,26 @@ class WornGarment {
   // max_steps_per_frame steps). Any body will do (its maps are rendered); a frame of the same body
   // with the same x-y extent keeps the grid and is interpolated.
   WornFrameReport follow(const Body& next, double seconds);
+  // The same with `next`'s maps rendered ahead (by a copy of mapRenderer(), on any thread, in frame
+  // order): the frame's interval is maps.seconds. This garment's renderer takes over their state.
+  WornFrameReport follow(const Body& next, WornFrameMaps maps);
+  // A copy of the renderer of this garment's maps, as of the last frame rendered: render the frames
+  // that follow with it (WornMapRenderer::render) and hand each to follow(next, maps).
+  WornMapRenderer mapRenderer() const { return renderer_; }
 
   bool worn() const { return cloth_.has_value(); }
   const TriMesh& garment() const { return garment_; }            // as after the last frame
   const std::vector<double>& vertexStrain() const { return strain_; }  // per vertex, the fit map
   const WornGarmentParams& params() const { return params_; }
-  const MapGrid& grid() const { return grid_; }
+  const MapGrid& grid() const { return renderer_.grid(); }
 
-  // A frame's maps: the front pair (along z) and, where switched on, the pairs of kOtherViews.
-  static constexpr std::array<MapView, 2> kOtherViews{MapView::Top, MapView::Side};
-  struct FrameMaps {
-    std::shared_ptr<const DepthMaps> front;
-    std::array<std::shared_ptr<const DepthMaps>, 2> other;
-  };
+  using FrameMaps = virtual_tryon::FrameMaps;
+  static constexpr std::array<MapView, 2> kOtherViews = FrameMaps::kOtherViews;
 
  private:
-  MapGrid gridAround(const Eigen::Vector3d& boxMin, const Eigen::Vector3d& boxMax) const;
-  bool viewOn(std::size_t k) const;  // kOtherViews[k] switched on
-  static void viewBox(MapView v, const Body& body, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
-  FrameMaps renderMaps(const Body& body, const MatrixX3d* velocity) const;  // velocity: #V by 3 or null
+  WornMapParams mapParams() const;
+  bool refused(double seconds, WornFrameReport& rep) const;  // not worn, or a bad interval (message)
+  WornFrameReport follow(const Body& next, WornFrameMaps prepared, std::chrono::steady_clock::time_point t0);
   bool stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt, WornFrameReport& rep);
   bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
   void resolveFrame(const Body& body, WornFrameReport& rep);
@@ -169,10 +172,8 @@ class WornGarment {
   std::optional<ClothState> cloth_;
   TriMesh garment_;
   std::vector<double> strain_;
-  MapGrid grid_;
-  std::array<MapGrid, 2> other_grid_;
-  double pixel_ = 0;  // m: the grid's pixel side, kept when a new grid is made
-  FrameMaps maps_;  // of the frame the cloth is on, on grid_ (and other_grid_)
+  WornMapRenderer renderer_;  // the grids and the frame last rendered
+  FrameMaps maps_;  // of the frame the cloth is on
   MatrixX3d body_V_;  // the body's vertices on that frame
   // The cloth after the last frame whose correction converged, the body's vertices on it, and the
   // frames since (carry_with_skin).
