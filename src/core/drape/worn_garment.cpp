@@ -1,7 +1,6 @@
 #include "virtual_tryon/core/drape/worn_garment.h"
 
 #include "core/drape/collision_response.h"
-#include "core/geometry/parallel_ranges.h"
 #include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/intersections.h"
 
