@@ -5,6 +5,7 @@
 #include "virtual_tryon/core/resolve/intersections.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -49,10 +50,15 @@ class MovingMaps {
       : a_(*a.front), b_(*b.front), inv_t_(1.0 / seconds), interpolate_(interpolate), velocity_(velocity) {
     for (std::size_t k = 0; k < FrameMaps::kOtherViews.size(); ++k)
       if (a.other[k] && b.other[k]) others_.push_back({FrameMaps::kOtherViews[k], a.other[k].get(), b.other[k].get()});
+    spanFrontView();
   }
   void setTime(double s) { s_ = s; }
 
   bool collide(const Eigen::Vector3d& p, Eigen::Vector3d& normal, double& depth, Eigen::Vector3d& surface) const {
+    std::size_t i;
+    if (!b_.pixelIndex(p.x(), p.y(), i)) return false;
+    const std::array<float, 2>& span = span_[i];
+    if (!(p.z() >= span[0] && p.z() <= span[1])) return false;  // most of the cloth: one load
     if (!view(a_, b_, p, normal, depth, &surface)) return false;
     // Within the tolerance shell the front view is right (the shell is along z: at a steep wall a
     // point in it may lie far from the wall along y, and another view would let it through).
@@ -112,6 +118,26 @@ class MovingMaps {
     return u;
   }
 
+  // Per pixel of the front view, the depths between which the body can be at any time of the
+  // interval: from the lower of the two backs to the higher of the two fronts (B's alone where it
+  // arrives or is not interpolated; empty where it has left), a little wider than the float
+  // values so that the blend's rounding never falls outside. A point outside it collides at no time.
+  void spanFrontView() {
+    const std::vector<float>&fa = a_.frontDepth(), &ba = a_.backDepth(), &fb = b_.frontDepth(), &bb = b_.backDepth();
+    const bool same = fa.size() == fb.size() && interpolate_;
+    span_.resize(fb.size());
+    constexpr float kPad = 1e-5f;
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+      if (std::isnan(fb[i])) {
+        span_[i] = {1.0f, -1.0f};
+      } else if (!same || std::isnan(fa[i])) {
+        span_[i] = {bb[i] - kPad, fb[i] + kPad};
+      } else {
+        span_[i] = {std::min(ba[i], bb[i]) - kPad, std::max(fa[i], fb[i]) + kPad};
+      }
+    }
+  }
+
   static bool still(const DepthMaps& m, std::size_t i, double z, Eigen::Vector3d& normal, double& depth,
                     bool& front) {
     const double f = m.frontDepth()[i], b = m.backDepth()[i];
@@ -130,6 +156,7 @@ class MovingMaps {
   const DepthMaps& a_;
   const DepthMaps& b_;
   std::vector<Other> others_;
+  std::vector<std::array<float, 2>> span_;  // spanFrontView()
   double inv_t_, s_ = 1;
   bool interpolate_, velocity_;
 };
