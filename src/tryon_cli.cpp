@@ -719,7 +719,11 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
         .add("inside_before", r.resolver.vertices_inside_before)
         .add("inside_after", r.resolver.vertices_inside_after)
         .add("resolver_iterations", r.resolver.iterations)
-        .add("resolver_max_displacement_m", r.resolver.max_displacement);
+        .add("resolver_max_displacement_m", r.resolver.max_displacement)
+        .add("ms_resolve_detection", 1e3 * r.resolver.seconds_detection)
+        .add("ms_resolve_solve", 1e3 * r.resolver.seconds_solve)
+        .add("ms_resolve_relaxation", 1e3 * r.resolver.seconds_relaxation)
+        .add("relaxed_vertices", r.resolver.relaxation.active_vertices);
   line.add("ms", ms)
       .add("ms_body", msBody)
       .add("ms_maps", 1e3 * r.seconds_maps)
