@@ -137,7 +137,7 @@ std::string usage() {
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
          "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
          "                [--relax-compression C] [--no-resolve-relaxed] [--no-carry] [--sequential]\n"
-         "                [drape options]\n"
+         "                [--quick-sweeps N] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
@@ -151,7 +151,11 @@ std::string usage() {
          "      is strained past max_strain has its springs relaxed (stretched ones back to 1 +\n"
          "      stretch threshold, squeezed ones out to 1 - C, default " + g(vt::WornGarmentParams().relax_compression) + ", 0: stretched alone) and\n"
          "      is resolved again, and that is kept when it converges and is less strained;\n"
-         "      --no-resolve-relaxed: the first correction. Frame k + 1's body refit and maps are\n"
+         "      --no-resolve-relaxed: the first correction. Each correction first relaxes the\n"
+         "      shape in --quick-sweeps sweeps (default " + std::to_string(vt::WornGarmentParams().quick_sweeps) + ", over " + std::to_string(vt::WornGarmentParams().quick_rings) + " rings round what it\n"
+         "      moved), kept when no spring ends strained past " + g(vt::WornGarmentParams().quick_strain) + " or past the steps' strain,\n"
+         "      else the frame is corrected again with the drape's relaxation (0: always that one).\n"
+         "      Frame k + 1's body refit and maps are\n"
          "      made on a second thread while the cloth steps through frame k (--sequential: one\n"
          "      after the other; the same results); a frame's ms is the wall time since the frame\n"
          "      before was timed (the referee's count left out).\n"
@@ -711,6 +715,7 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
       .add("relax_passes", r.relax_passes)
       .add("resolved_relaxed", r.resolved_relaxed)
       .add("carried_with_skin", r.carried)
+      .add("quick_correction", r.quick_correction)
       .add("carried_for_strain", r.carried_for_strain)
       .add("max_speed_m_s", r.max_speed);
   if (r.resolver_run)
@@ -757,6 +762,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.interpolate = !opt.count("no-interpolate");
   wp.strain_restore = number(opt, "strain-restore", wp.strain_restore);
   wp.relax_compression = number(opt, "relax-compression", wp.relax_compression);
+  wp.quick_sweeps = integer(opt, "quick-sweeps", wp.quick_sweeps, 0, 1000);
   const bool check = opt.count("check") > 0;
 
   auto body = std::make_unique<vt::Body>(vt::TriMesh{bodyCache.samples[0], rest.mesh.F});
@@ -776,7 +782,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   result.sample_rate = bodyCache.sample_rate;
   result.samples.push_back(worn.garment().V);
   save(outs.first, worn.garment());
-  std::size_t notConverged = dressed.converged ? 0 : 1, refereeDirty = 0, gridRebuilt = 0, carried = 0;
+  std::size_t notConverged = dressed.converged ? 0 : 1, refereeDirty = 0, gridRebuilt = 0, carried = 0, quick = 0;
   double strainMax = 0;
   std::vector<double> ms;
   std::string failure;
@@ -807,6 +813,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
       if (!r.converged) ++notConverged;
       if (r.grid_rebuilt) ++gridRebuilt;
       if (r.carried) ++carried;
+      if (r.quick_correction) ++quick;
       if (check) {  // not counted in the next frame's ms
         const auto tc = std::chrono::steady_clock::now();
         const vt::ReferenceCounts c = vt::referenceCounts(frameBody->mesh(), worn.garment(), frameBody->closed());
@@ -827,6 +834,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
       .add("strain_max", strainMax)
       .add("grids_rebuilt", gridRebuilt)
       .add("frames_carried_with_skin", carried)
+      .add("frames_corrected_quickly", quick)
       .add("drape_ms", dressMs)
       .add("failure", failure);
   if (check) summary.add("frames_with_referee_findings", refereeDirty);
@@ -920,7 +928,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "quick-sweeps", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

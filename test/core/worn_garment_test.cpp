@@ -91,19 +91,31 @@ ProceduralAnimation swaying(int frames) {
 }
 
 // The shirt worn through the animation's frames, one frame after the other as follow(next,
-// seconds) steps them: the garment's vertices per frame.
-std::vector<MatrixX3d> wornOneAfterTheOther(const ProceduralAnimation& anim) {
+// seconds) steps them: the garment's vertices per frame, and (from frame 1) each frame's report
+// with the referee's counts.
+struct WornFrames {
+  std::vector<MatrixX3d> V;
+  std::vector<WornFrameReport> reports;
+  std::vector<ReferenceCounts> counts;
+};
+
+WornFrames wornFrames(const ProceduralAnimation& anim, const WornGarmentParams& params) {
   auto body = std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F});
-  WornGarment worn(wornParams());
-  if (!worn.dress(*body, proceduralPattern("sleeveless_shirt.yaml")).success) return {};
-  std::vector<MatrixX3d> out{worn.garment().V};
+  WornGarment worn(params);
+  WornFrames out;
+  if (!worn.dress(*body, proceduralPattern("sleeveless_shirt.yaml")).success) return out;
+  out.V.push_back(worn.garment().V);
   for (std::size_t f = 1; f < anim.body_frames.size(); ++f) {
     body = std::make_unique<Body>(std::move(*body), anim.body_frames[f]);
-    if (!worn.follow(*body, 1.0 / anim.rate).success) break;
-    out.push_back(worn.garment().V);
+    out.reports.push_back(worn.follow(*body, 1.0 / anim.rate));
+    if (!out.reports.back().success) break;
+    out.V.push_back(worn.garment().V);
+    out.counts.push_back(ReferenceReferee(body->mesh()).count(worn.garment()));
   }
   return out;
 }
+
+std::vector<MatrixX3d> wornOneAfterTheOther(const ProceduralAnimation& anim) { return wornFrames(anim, wornParams()).V; }
 
 }  // namespace
 
@@ -286,6 +298,38 @@ TEST(WornGarment, AFrameLeftStrainedIsCarriedWithTheSkinWhenThatIsLessStrained) 
 
 // A recorded motion's frames made ready one ahead of the worn garment (core/drape/frames_ahead.h):
 // the same garment, frame by frame, as stepping the frames one after the other.
+// Each frame is first corrected with the quick relaxation where its steps left the cloth within
+// quick_strain, and that is kept only when it stays within it (else the drape's relaxation). Every
+// frame is clean by the referee either way; with quick_strain below every frame's steps' strain the
+// quick one is never tried, and the frames are those of quick_sweeps = 0 bit for bit.
+TEST(WornGarment, AQuickCorrectionIsKeptOnlyWhereItStaysWithinItsStrain) {
+  const ProceduralAnimation anim = swaying(6);
+  const WornGarmentParams params = wornParams();
+  ASSERT_GT(params.quick_sweeps, 0);
+  const WornFrames quick = wornFrames(anim, params);
+  ASSERT_EQ(quick.V.size(), anim.body_frames.size());
+  int kept = 0;
+  for (std::size_t f = 0; f < quick.reports.size(); ++f) {
+    const WornFrameReport& r = quick.reports[f];
+    const ReferenceCounts& c = quick.counts[f];
+    EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u) << "frame " << f + 1;
+    EXPECT_TRUE(r.converged) << "frame " << f + 1 << ": " << r.message;
+    if (!r.quick_correction) continue;
+    ++kept;
+    EXPECT_LE(r.strain_stepped, params.quick_strain) << "frame " << f + 1;
+    EXPECT_LE(r.strain_max, params.quick_strain) << "frame " << f + 1;
+  }
+  EXPECT_GT(kept, 0);  // the premise: the swaying shirt's frames are mostly quick
+  WornGarmentParams never = params, off = params;
+  never.quick_strain = 1e-9;
+  off.quick_sweeps = 0;
+  const WornFrames a = wornFrames(anim, never), b = wornFrames(anim, off);
+  ASSERT_EQ(a.V.size(), anim.body_frames.size());
+  ASSERT_EQ(b.V.size(), a.V.size());
+  for (std::size_t f = 0; f < a.V.size(); ++f) EXPECT_EQ(a.V[f], b.V[f]) << "frame " << f;
+  for (const WornFrameReport& r : a.reports) EXPECT_FALSE(r.quick_correction);
+}
+
 TEST(FramesAhead, GivesTheFramesSteppedOneAfterTheOtherCleanEveryFrame) {
   const ProceduralAnimation anim = swaying(6);
   const std::vector<MatrixX3d> expected = wornOneAfterTheOther(anim);

@@ -218,6 +218,9 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
     for (const Spring& sp : cloth_->springs())
       if (sp.type == SpringType::Structural) frame_resolver_.relaxation.rest_lengths.push_back({sp.a, sp.b, sp.rest});
   }
+  quick_resolver_ = frame_resolver_;
+  quick_resolver_.relaxation.max_sweeps = params_.quick_sweeps;
+  quick_resolver_.relaxation.rings = params_.quick_rings;
   return rep;
 }
 
@@ -276,13 +279,13 @@ bool WornGarment::stepCloth(const FrameMaps& from, const FrameMaps& to, double s
   return true;
 }
 
-void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
+void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep, bool quick) {
   ClothState& cloth = *cloth_;
   garment_ = cloth.mesh();
   rep.strain_stepped = largest(cloth.nodeStrain(garment_.V));
   if (params_.resolve) {
     const auto t0 = Clock::now();
-    rep.resolver = resolvePenetrations(body, garment_, frame_resolver_);
+    correct(body, cloth, quick, rep);
     rep.resolver_run = true;
     rep.seconds_resolve = since(t0);
     // The cloth goes on from the corrected positions; a corrected node keeps its velocity less
@@ -304,6 +307,23 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep) {
     rep.relax_passes = cloth.relaxStrainedSprings(params_.relax_passes, params_.relax_compression);
     if (params_.resolve && params_.resolve_relaxed) resolveRelaxed(body, rep);
   }
+}
+
+// The steps' cloth (garment_) corrected. With `quick`, where the steps left no spring strained past quick_strain,
+// first with the quick relaxation, kept when it converges and still strains none past it; else
+// (again from the steps' cloth) with the drape's.
+void WornGarment::correct(const Body& body, const ClothState& cloth, bool quick, WornFrameReport& rep) {
+  rep.quick_correction = false;
+  if (quick && params_.quick_sweeps > 0 && rep.strain_stepped <= params_.quick_strain) {
+    const MatrixX3d stepped = garment_.V;
+    rep.resolver = resolvePenetrations(body, garment_, quick_resolver_);
+    if (rep.resolver.converged && largest(cloth.nodeStrain(garment_.V)) <= params_.quick_strain) {
+      rep.quick_correction = true;
+      return;
+    }
+    garment_.V = stepped;
+  }
+  rep.resolver = resolvePenetrations(body, garment_, frame_resolver_);
 }
 
 // The relaxed cloth (its spikes pulled back) resolved again: kept, and published, when that
@@ -456,7 +476,7 @@ bool WornGarment::correctCarried(const Body& next, bool failed, bool whole, doub
   again.resolved_relaxed = false;
   again.resolver = ResolverReport();
   again.relaxed_resolver = ResolverReport();
-  resolveFrame(next, again);
+  resolveFrame(next, again, /*quick=*/false);  // the fallback's own correction is the drape's, in full
   resolveSeconds += again.seconds_resolve;
   if (!frameClean(again) || !(failed || again.strain_max < rep.strain_max)) return false;
   again.carried = true;

@@ -59,6 +59,15 @@ struct WornGarmentParams {
   // when the resolver converges and leaves it less strained than the first correction did. Off:
   // the returned garment is the first correction, the relaxed cloth only the next frame's start.
   bool resolve_relaxed = true;
+  // A frame whose steps left no structural spring strained past quick_strain is first corrected
+  // with a lighter shape relaxation: quick_sweeps sweeps over what the resolver moved and
+  // quick_rings rings round it (the drape's resolver's are 18 and 8; the cloth's next steps take
+  // the shape on from there). It is kept when it converges and still strains no spring past
+  // quick_strain; otherwise, and for a frame strained more by its steps, the frame is corrected
+  // from the steps' cloth with the drape's relaxation. 0 sweeps: always the drape's.
+  int quick_sweeps = 6;
+  int quick_rings = 3;
+  double quick_strain = 0.15;
   // When a frame's correction does not converge (the steps let a limb through the cloth: on the
   // walk, a calf swinging back through a wide trouser leg, past what the resolver can undo), or
   // leaves a spring past the drape's max_strain after the second resolve, the cloth as it was on
@@ -104,6 +113,7 @@ struct WornFrameReport {
   int step_halvings = 0;   // times the frame's step was halved after a blow-up
   int relax_passes = 0;    // passes that relaxed the cloth's spikes after the resolver
   bool resolved_relaxed = false;  // the relaxed cloth was resolved again and kept (less strained)
+  bool quick_correction = false;  // the resolver's correction kept was the quick one (quick_sweeps)
   // The last clean cloth carried with the skin (and corrected) was kept: the steps' correction
   // failed, or (carried_for_strain) left a spring past max_strain and the carried cloth is less
   // strained.
@@ -160,7 +170,8 @@ class WornGarment {
   WornFrameReport follow(const Body& next, WornFrameMaps prepared, std::chrono::steady_clock::time_point t0);
   bool stepCloth(const FrameMaps& from, const FrameMaps& to, double seconds, double dt, WornFrameReport& rep);
   bool stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep);
-  void resolveFrame(const Body& body, WornFrameReport& rep);
+  void resolveFrame(const Body& body, WornFrameReport& rep, bool quick = true);
+  void correct(const Body& body, const ClothState& cloth, bool quick, WornFrameReport& rep);
   void resolveRelaxed(const Body& body, WornFrameReport& rep);
   void carryWithSkin(const Body& next, double seconds, const MatrixX3d& steppedX, WornFrameReport& rep);
   bool correctCarried(const Body& next, bool failed, bool whole, double& resolveSeconds, WornFrameReport& rep);
@@ -180,6 +191,7 @@ class WornGarment {
   MatrixX3d clean_V_, clean_body_V_;
   int frames_since_clean_ = 0;
   ResolverParams frame_resolver_;
+  ResolverParams quick_resolver_;  // frame_resolver_ with the quick relaxation
 };
 
 }  // namespace virtual_tryon
