@@ -155,10 +155,10 @@ std::string usage() {
          "      shape in --quick-sweeps sweeps (default " + std::to_string(vt::WornGarmentParams().quick_sweeps) + ", over " + std::to_string(vt::WornGarmentParams().quick_rings) + " rings round what it\n"
          "      moved), kept when no spring ends strained past " + g(vt::WornGarmentParams().quick_strain) + " or past the steps' strain,\n"
          "      else the frame is corrected again with the drape's relaxation (0: always that one).\n"
-         "      Frame k + 1's body refit and maps are\n"
-         "      made on a second thread while the cloth steps through frame k (--sequential: one\n"
-         "      after the other; the same results); a frame's ms is the wall time since the frame\n"
-         "      before was timed (the referee's count left out).\n"
+         "      Frame k + 1's body refit and maps are made on a second thread while the cloth\n"
+         "      steps through frame k, frame 1's while frame 0 is draped (--sequential: one after\n"
+         "      the other; the same results); a frame's ms is the wall time since the frame before\n"
+         "      (frame 1: the drape) was timed (the referee's count left out).\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
          "      frame 0) and OUT.pc2 (every frame). Exit 0 when every frame converged, 3 when one\n"
@@ -768,8 +768,19 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   auto body = std::make_unique<vt::Body>(vt::TriMesh{bodyCache.samples[0], rest.mesh.F});
   const vt::Pattern pattern = loadPattern(patternPath, wp.drape.spacing, body.get(), opt);
   vt::WornGarment worn(wp);
+  // Frame f + 1's body and maps are made ready on a second thread while the cloth steps through
+  // frame f (--sequential: one after the other), frame 1's while frame 0 is draped. A frame's ms
+  // is the wall time from the end of the frame before (frame 1: of the drape) to its end (the
+  // referee's count of --check left out): with frames made ahead, what each costs in a run of them.
+  const std::vector<vt::MatrixX3d> bodyFrames(bodyCache.samples.begin(), bodyCache.samples.begin() + frames);
+  std::unique_ptr<vt::FramesAhead> ahead;
+  const vt::Body& first = *body;  // FramesAhead keeps it, and only reads it until its first frame
   const auto t0 = std::chrono::steady_clock::now();
-  const vt::DrapeResult dressed = worn.dress(*body, pattern, drapeProgress());
+  const vt::DrapeResult dressed =
+      worn.dress(first, pattern, drapeProgress(), 25, [&](const vt::WornMapRenderer& renderer) {
+        ahead = std::make_unique<vt::FramesAhead>(std::move(body), bodyFrames, renderer, 1.0 / fps,
+                                                  !opt.count("sequential"));
+      });
   const double dressMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << vt::json::Obj().add("frame", 0).json("drape", vt::toJson(dressed)).add("ms", dressMs).str() << std::endl;
   if (!dressed.success) {
@@ -786,15 +797,9 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   double strainMax = 0;
   std::vector<double> ms;
   std::string failure;
-  // Frame f + 1's body and maps are made ready on a second thread while the cloth steps through
-  // frame f (--sequential: one after the other). A frame's ms is the wall time from the end of the
-  // frame before to its end (the referee's count of --check left out): with frames made ahead,
-  // what each costs in a run of them.
-  const std::vector<vt::MatrixX3d> bodyFrames(bodyCache.samples.begin(), bodyCache.samples.begin() + frames);
-  vt::FramesAhead ahead(std::move(body), bodyFrames, worn.mapRenderer(), 1.0 / fps, !opt.count("sequential"));
   auto tf = std::chrono::steady_clock::now();
-  while (!ahead.done() && failure.empty()) {
-    vt::FramesAhead::Frame next = ahead.next();
+  while (!ahead->done() && failure.empty()) {
+    vt::FramesAhead::Frame next = ahead->next();
     const int f = next.index;
     const vt::Body* frameBody = next.body;
     const double msRender = 1e3 * next.maps.seconds_render;

@@ -16,8 +16,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 #include <stdexcept>
+#include <string>
 
 using namespace virtual_tryon;
 using virtual_tryon_test::proceduralPattern;
@@ -334,12 +336,24 @@ TEST(FramesAhead, GivesTheFramesSteppedOneAfterTheOtherCleanEveryFrame) {
   const ProceduralAnimation anim = swaying(6);
   const std::vector<MatrixX3d> expected = wornOneAfterTheOther(anim);
   ASSERT_EQ(expected.size(), anim.body_frames.size());
-  for (bool ahead : {true, false}) {
+  // Made ahead once the garment is worn, one after the other, and ahead from the start of the
+  // drape on (frame 1 made ready while the first frame is draped: dress's mapsReady).
+  for (const char* mode : {"ahead", "one after the other", "ahead from the drape"}) {
+    const bool ahead = std::string(mode) != "one after the other", fromDrape = std::string(mode) == "ahead from the drape";
     auto first = std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F});
+    const Body& body0 = *first;
     WornGarment worn(wornParams());
-    ASSERT_TRUE(worn.dress(*first, proceduralPattern("sleeveless_shirt.yaml")).success);
+    std::unique_ptr<FramesAhead> made;
+    const auto start = [&](const WornMapRenderer& renderer) {
+      made = std::make_unique<FramesAhead>(std::move(first), anim.body_frames, renderer, 1.0 / anim.rate, ahead);
+    };
+    ASSERT_TRUE(worn.dress(body0, proceduralPattern("sleeveless_shirt.yaml"), nullptr, 25,
+                           fromDrape ? std::function<void(const WornMapRenderer&)>(start) : nullptr)
+                    .success);
     ASSERT_EQ(worn.garment().V, expected[0]);
-    FramesAhead frames(std::move(first), anim.body_frames, worn.mapRenderer(), 1.0 / anim.rate, ahead);
+    if (!fromDrape) start(worn.mapRenderer());
+    ASSERT_TRUE(made);
+    FramesAhead& frames = *made;
     int count = 0;
     while (!frames.done()) {
       FramesAhead::Frame f = frames.next();
@@ -347,13 +361,13 @@ TEST(FramesAhead, GivesTheFramesSteppedOneAfterTheOtherCleanEveryFrame) {
       ASSERT_EQ(f.index, count);
       ASSERT_NE(f.body, nullptr);
       EXPECT_EQ(f.body->mesh().V, anim.body_frames[static_cast<std::size_t>(f.index)]);
-      EXPECT_TRUE(f.body->bvhRefitted()) << "frame " << f.index << ": the trees are refitted, not rebuilt";
+      EXPECT_TRUE(f.body->bvhRefitted()) << "frame " << f.index << " (" << mode << "): the trees are refitted, not rebuilt";
       const WornFrameReport r = worn.follow(*f.body, std::move(f.maps));
       ASSERT_TRUE(r.success) << "frame " << f.index << ": " << r.message;
       EXPECT_TRUE(r.converged) << "frame " << f.index << ": " << r.message;
       EXPECT_TRUE(r.interpolated) << "frame " << f.index;
       // Bit for bit what the frames stepped one after the other gave.
-      EXPECT_EQ(worn.garment().V, expected[static_cast<std::size_t>(f.index)]) << "frame " << f.index << (ahead ? " (ahead)" : "");
+      EXPECT_EQ(worn.garment().V, expected[static_cast<std::size_t>(f.index)]) << "frame " << f.index << " (" << mode << ")";
       const ReferenceCounts c = ReferenceReferee(f.body->mesh()).count(worn.garment());
       EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u) << "frame " << f.index;
     }

@@ -31,6 +31,9 @@ FramesAhead::Prepared FramesAhead::prepare(int index, std::unique_ptr<Body> spar
   Prepared p;
   const auto t0 = Clock::now();
   const MatrixX3d& V = frames_[static_cast<std::size_t>(index)];
+  // The first copy refits the current body's trees, built now if nothing has built them yet (a
+  // garment still being draped on it): a frame is refitted, never rebuilt, whenever it is made.
+  if (!spare) current_->bvh();
   p.body = spare ? std::make_unique<Body>(std::move(*spare), V) : std::make_unique<Body>(*current_, V);
   p.seconds_body = since(t0);
   p.maps = renderer_.render(*p.body, seconds_);

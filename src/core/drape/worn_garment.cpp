@@ -171,7 +171,7 @@ WornGarment::WornGarment(WornGarmentParams params) : params_(std::move(params)) 
 WornGarment::~WornGarment() = default;
 
 DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const DrapeProgressCallback& progress,
-                               int progress_every) {
+                               int progress_every, const std::function<void(const WornMapRenderer&)>& mapsReady) {
   cloth_.reset();
   garment_ = TriMesh();
   strain_.clear();
@@ -192,19 +192,28 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
       !(params_.relax_compression >= 0 && params_.relax_compression < 1) || params_.step_halvings < 0 ||
       params_.step_halvings > 8 || params_.carry_rings < 0 || params_.carry_rings > 1000 ||
       params_.carry_relax_passes < 0 || params_.carry_relax_passes > 10000 || params_.carry_smoothing < 0 ||
-      params_.carry_smoothing > 1000) {
+      params_.carry_smoothing > 1000 || params_.quick_sweeps < 0 || params_.quick_sweeps > 1000 ||
+      params_.quick_rings < 0 || params_.quick_rings > 1000 || !(params_.quick_strain > 0 && params_.quick_strain <= 10)) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
                 "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8, carry_rings 0 .. 1000, "
-                "carry_relax_passes 0 .. 10000, carry_smoothing 0 .. 1000)";
+                "carry_relax_passes 0 .. 10000, carry_smoothing 0 .. 1000, quick_sweeps and quick_rings 0 .. 1000, "
+                "quick_strain > 0 .. 10)";
     return r;
   }
+  // The first frame's maps on the grid every later frame shares, at the drape's pixel size (the
+  // body's own maps, which the drape then uses too); the caller may start rendering the next
+  // frames with it while the garment is draped.
+  renderer_ = WornMapRenderer(mapParams(), body, body.depthMaps(params_.drape.collision)->pixelSize(), maps_);
+  if (mapsReady) mapsReady(renderer_);
   DrapeResult rep = drape(body, pattern, params_.drape, garment_, cloth_, progress, progress_every);
-  if (!rep.success) return rep;
+  if (!rep.success) {
+    maps_ = FrameMaps();
+    renderer_ = WornMapRenderer();
+    return rep;
+  }
   strain_ = rep.vertex_strain;
   cloth_->setStrainRestore(params_.strain_restore);
-  // The first frame's maps on the grid every later frame shares, at the drape's pixel size.
-  renderer_ = WornMapRenderer(mapParams(), body, body.depthMaps(params_.drape.collision)->pixelSize(), maps_);
   body_V_ = body.mesh().V;
   clean_V_ = garment_.V;
   clean_body_V_ = body_V_;

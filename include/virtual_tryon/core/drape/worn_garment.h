@@ -16,6 +16,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -142,8 +143,11 @@ class WornGarment {
   WornGarment& operator=(const WornGarment&) = delete;
 
   // Drapes `pattern` on `body` (the first frame) and wears the result. Not success: nothing is worn.
+  // mapsReady, when given, is called before the drape with the renderer of the maps (as
+  // mapRenderer() gives it after): the next frames may be rendered with a copy of it, on another
+  // thread, while the garment is draped (FramesAhead).
   DrapeResult dress(const Body& body, const Pattern& pattern, const DrapeProgressCallback& progress = nullptr,
-                    int progress_every = 25);
+                    int progress_every = 25, const std::function<void(const WornMapRenderer&)>& mapsReady = nullptr);
   // Steps the worn cloth from the frame it is on to `next`, `seconds` later (> 0, at most
   // max_steps_per_frame steps). Any body will do (its maps are rendered); a frame of the same body
   // with the same x-y extent keeps the grid and is interpolated.
