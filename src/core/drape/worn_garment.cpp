@@ -318,9 +318,9 @@ void WornGarment::resolveFrame(const Body& body, WornFrameReport& rep, bool quic
   }
 }
 
-// The steps' cloth (garment_) corrected. With `quick`, where the steps left no spring strained past quick_strain,
-// first with the quick relaxation, kept when it converges and still strains none past it; else
-// (again from the steps' cloth) with the drape's.
+// The steps' cloth (garment_) corrected. With `quick`, where the steps left no spring strained
+// past quick_strain, first with the quick relaxation, kept when it converges and still strains
+// none past it; else (again from the steps' cloth) with the drape's.
 void WornGarment::correct(const Body& body, const ClothState& cloth, bool quick, WornFrameReport& rep) {
   rep.quick_correction = false;
   if (quick && params_.quick_sweeps > 0 && rep.strain_stepped <= params_.quick_strain) {

@@ -25,10 +25,11 @@ class FramesAhead {
  public:
   // `first`: the body on frames[0] (taken over; the caller may go on reading it, not changing it,
   // until its first next(): frame 1 is made from a copy, so that the garment can be draped on the
-  // first frame while frame 1 is made ready, WornGarment::dress's mapsReady). frames (kept by the caller while this lives): the
-  // body's vertices per frame (each #V by 3, as many as first has), `seconds` apart (> 0). ahead:
-  // each frame is prepared on a second thread while the caller works on the one before; false:
-  // next() prepares it on the calling thread (the same results, one after the other).
+  // first frame while frame 1 is made ready, WornGarment::dress's mapsReady). frames (kept by the
+  // caller while this lives): the body's vertices per frame (each #V by 3, as many as first has),
+  // `seconds` apart (> 0). ahead: each frame is prepared on a second thread while the caller works
+  // on the one before; false: next() prepares it on the calling thread (the same results, one
+  // after the other).
   FramesAhead(std::unique_ptr<Body> first, const std::vector<MatrixX3d>& frames, WornMapRenderer renderer,
               double seconds, bool ahead = true);
   ~FramesAhead();  // waits for a frame in preparation
