@@ -33,6 +33,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -114,7 +115,7 @@ std::string usage() {
          "      the strain of its structural springs.\n"
          "  tryon animate resolve --body B.obj --body-cache B.pc2 --garment G.obj --garment-cache G.pc2\n"
          "                --out OUT.pc2 [--check] [--max-jitter M] [--cold] [--warm-min M] [--clearance M]\n"
-         "                [--max-iterations N] [--objective ...]\n"
+         "                [--max-iterations N] [--objective ...] [--no-backward]\n"
          "      Resolves every frame of an animated garment on an animated body (Point Cache 2, in\n"
          "      the rest meshes' vertex order; Sun et al. 2016's garment animation synthesis).\n"
          "      Each frame on its own (history-free). One JSON line per frame (crossings before\n"
@@ -131,6 +132,13 @@ std::string usage() {
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
          "      the body); \"coherence\" in its line says how many were over and how many stayed.\n"
+         "      Then a backward pass (--no-backward: none): from the last frame but one back to the\n"
+         "      first, each vertex whose correction still differs by more than M from the next\n"
+         "      frame's moves towards it, where that keeps its own frame clean, so that a jump the\n"
+         "      body forced on a later frame is spread over the frames before it; one\n"
+         "      {\"backward_frame\": K, ...} line per frame it moved (with --check, the referee's\n"
+         "      counts again). The summary's jitter_max_m is after both passes,\n"
+         "      jitter_max_forward_m after the first alone.\n"
          "      Writes the resolved frames to OUT.pc2.\n"
          "      Exit 0 when every frame converged, 3 otherwise, 2 on bad input.\n"
          "  tryon animate drape --body B.obj --body-cache B.pc2 --pattern P --out OUT[.pc2] [--check]\n"
@@ -182,7 +190,7 @@ struct Usage : std::runtime_error {
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "cold", "no-body-velocity",
                                       "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
-                                      "no-resolve-relaxed", "no-carry", "sequential"};
+                                      "no-resolve-relaxed", "no-carry", "sequential", "no-backward"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -540,6 +548,57 @@ vt::PointCache loadBodyCache(const std::map<std::string, std::string>& opt, cons
   return cache;
 }
 
+// The largest edge strain of V against the input (same faces).
+double largestStrain(const vt::MatrixX3d& input, const vt::MatrixX3i& F, const vt::MatrixX3d& V) {
+  double largest = 0;
+  for (double v : vt::vertexEdgeStrain(vt::TriMesh{input, F}, V)) largest = std::max(largest, v);
+  return largest;
+}
+
+// The referee's counts of a frame in its JSON line; dirty when it found a crossing or a vertex inside.
+void refereeLine(vt::json::Obj& line, const vt::Body& body, const vt::TriMesh& garment, char& dirty) {
+  const vt::ReferenceCounts c = vt::referenceCounts(body.mesh(), garment, body.closed());
+  dirty = c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside > 0;
+  line.json("referee", vt::toJson(c));
+}
+
+// tryon animate resolve's second pass (limitCorrectionChangeBackward): each frame it moves is
+// refitted again from `body` (the last frame's, then each moved one's), said in a
+// {"backward_frame": k, ...} line, checked again by the referee with --check.
+vt::BackwardCoherenceReport backwardPass(vt::PointCache& result, const vt::PointCache& inputs, const vt::MatrixX3i& F,
+                                         const vt::PointCache& bodyCache, std::unique_ptr<vt::Body>& body,
+                                         const std::vector<double>& minClearance, const vt::CoherenceParams& params,
+                                         bool check, std::vector<char>& dirty) {
+  auto bodyAt = [&](int k) -> const vt::Body& {
+    body = std::make_unique<vt::Body>(std::move(*body), bodyCache.samples[static_cast<std::size_t>(k)]);
+    return *body;
+  };
+  const vt::BackwardCoherenceReport rep =
+      vt::limitCorrectionChangeBackward(result.samples, inputs.samples, F, bodyAt, minClearance, params);
+  if (!rep.message.empty()) throw std::runtime_error("the backward pass: " + rep.message);
+  for (std::size_t i = 0; i < rep.frames.size(); ++i) {
+    const std::size_t k = static_cast<std::size_t>(rep.frames[i]);
+    const vt::CoherenceReport& c = rep.reports[i];
+    vt::json::Obj line;
+    line.add("backward_frame", k)
+        .add("over_max_jitter", c.candidates)
+        .add("limited", c.limited)
+        .add("partly", c.partly)
+        .add("held", c.held)
+        .add("jitter_to_next_as_resolved_m", c.change_before)
+        .add("jitter_to_next_m", c.change_after)
+        .add("strain_vs_input_max", largestStrain(inputs.samples[k], F, result.samples[k]))
+        .add("ms", 1e3 * c.seconds);
+    if (check) {
+      // The frames are moved last first: frame k's body is refitted once more for its check.
+      const vt::Body frameBody(*body, bodyCache.samples[k]);
+      refereeLine(line, frameBody, vt::TriMesh{result.samples[k], F}, dirty[k]);
+    }
+    std::cout << line.str() << std::endl;
+  }
+  return rep;
+}
+
 // tryon animate resolve: every frame of a garment cache resolved on the body cache's frame.
 int animateResolve(const std::map<std::string, std::string>& opt) {
   const vt::MeshLimits limits = meshLimits(opt);
@@ -572,6 +631,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   std::size_t notConverged = 0, refereeDirty = 0;
   vt::MatrixX3d previousCorrection;
   std::unique_ptr<vt::Body> last;
+  std::vector<double> minClearance;  // per frame: what the coherence steps keep off the body
+  std::vector<char> dirty;           // per frame: the referee found something (--check)
   std::size_t refitted = 0;
   for (std::size_t f = 0; f < bodyCache.samples.size(); ++f) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -600,19 +661,19 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     if (coherent) {
       vt::CoherenceParams cp = coherenceParams;
       cp.min_clearance = 0.5 * rep.clearance;
+      minClearance.push_back(cp.min_clearance);
       coherence = vt::limitCorrectionChange(body, garment, garmentCache.samples[f], previousCorrection, cp);
       coherenceCandidates += coherence.candidates;
       coherenceHeld += coherence.held + coherence.partly;
       coherenceForced += coherence.forced_by_input;
     }
+    if (!coherent) minClearance.push_back(0.5 * rep.clearance);
     const double frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ms.push_back(frameMs);
     const vt::MatrixX3d correction = garment.V - garmentCache.samples[f];
     // Edge strain against this frame's own input, after the coherence step (the resolver's report
     // measures before it).
-    double strainVsInput = 0;
-    for (double v : vt::vertexEdgeStrain(vt::TriMesh{garmentCache.samples[f], garmentRest.F}, garment.V))
-      strainVsInput = std::max(strainVsInput, v);
+    const double strainVsInput = largestStrain(garmentCache.samples[f], garmentRest.F, garment.V);
     const double jitter = previousCorrection.rows() == correction.rows()
                               ? (correction - previousCorrection).rowwise().norm().maxCoeff()
                               : 0.0;
@@ -659,20 +720,29 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
                                  .add("jitter_as_resolved_m", coherence.change_before)
                                  .add("ms", 1e3 * coherence.seconds)
                                  .str());
-    if (check) {
-      const vt::ReferenceCounts c = vt::referenceCounts(body.mesh(), garment, body.closed());
-      const std::size_t dirty = c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside;
-      if (dirty) ++refereeDirty;
-      line.json("referee", vt::toJson(c));
-    }
+    dirty.push_back(0);
+    if (check) refereeLine(line, body, garment, dirty.back());
     std::cout << line.str() << std::endl;
   }
+  const bool backwardRan = coherenceParams.max_change > 0 && !opt.count("no-backward");
+  const vt::BackwardCoherenceReport backward =
+      backwardRan
+          ? backwardPass(result, garmentCache, garmentRest.F, bodyCache, last, minClearance, coherenceParams, check, dirty)
+          : vt::BackwardCoherenceReport();
+  for (char d : dirty) refereeDirty += d ? 1 : 0;
   if (!vt::writePointCache(out, result, err)) throw std::runtime_error(err);
   vt::json::Obj summary;
   addFrameTimes(summary, ms);
   summary.add("not_converged", notConverged)
-      .add("jitter_max_m", jitterMax)
+      .add("jitter_max_m", backwardRan ? backward.change_after : jitterMax)
+      .add("jitter_max_forward_m", jitterMax)
       .add("max_jitter_m", coherenceParams.max_change)
+      .add("backward_pass", backwardRan)
+      .add("backward_frames_moved", backward.frames.size())
+      .add("backward_vertices_over_max_jitter", backward.candidates)
+      .add("backward_vertices_left_over", backward.partly + backward.held)
+      .add("ms_backward", 1e3 * backward.seconds)
+      .add("ms_mean_with_backward", ms.empty() ? 0.0 : (std::accumulate(ms.begin(), ms.end(), 0.0) + 1e3 * backward.seconds) / ms.size())
       .add("warm_start", warm)
       .add("warm_min_m", warmMin)
       .add("warm_frames_resolved_cold", coldFallbacks)
@@ -941,7 +1011,7 @@ int main(int argc, char** argv) {
         return animateDrape(opt);
       }
       if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
-      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "warm-min", "max-jitter", "clearance",
+      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "no-backward", "warm-min", "max-jitter", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);
     }

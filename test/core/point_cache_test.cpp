@@ -160,6 +160,19 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
   // Temporal coherence is on by default and says what it did; a limit out of range is bad input.
   EXPECT_TRUE(contains(run.out, "\"max_jitter_m\": 0.003")) << run.out;
   EXPECT_TRUE(contains(run.out, "\"vertices_over_max_jitter\"")) << run.out;
+  // Then the backward pass, which says what it moved (nothing here: every change is within the
+  // limit forward), and --no-backward, which leaves it out: the same frames.
+  EXPECT_TRUE(contains(run.out, "\"backward_frames_moved\": 0")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"jitter_max_forward_m\"")) << run.out;
+  const CliRun forwardOnly = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir +
+                                        "/body.pc2 --garment " + dir + "/garment.obj --garment-cache " + dir +
+                                        "/garment.pc2 --out " + dir + "/forward.pc2 --no-backward",
+                                    dir + "/err4.txt");
+  ASSERT_EQ(forwardOnly.code, 0) << forwardOnly.out << forwardOnly.err;
+  EXPECT_TRUE(contains(forwardOnly.out, "\"backward_pass\": false")) << forwardOnly.out;
+  PointCache forwardOut;
+  ASSERT_TRUE(readPointCache(dir + "/forward.pc2", forwardOut, err, garment.points)) << err;
+  for (int f = 0; f < 5; ++f) EXPECT_EQ(forwardOut.samples[f], out.samples[f]) << f;
   const CliRun badJitter = runCli("animate resolve --body " + dir + "/body.obj --body-cache " + dir +
                                       "/body.pc2 --garment " + dir + "/garment.obj --garment-cache " + dir +
                                       "/garment.pc2 --out " + dir + "/o.pc2 --max-jitter -1",

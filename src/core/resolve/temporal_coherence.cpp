@@ -23,33 +23,91 @@ void vertexFaceLists(const MatrixX3i& F, Eigen::Index nv, std::vector<int>& star
     for (int k = 0; k < 3; ++k) faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(F(f, k))]++)] = static_cast<int>(f);
 }
 
-double largestChange(const TriMesh& garment, const MatrixX3d& input, const MatrixX3d& previous) {
-  return garment.V.rows() ? ((garment.V - input) - previous).rowwise().norm().maxCoeff() : 0.0;
+double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d& previous) {
+  return V.rows() ? ((V - input) - previous).rowwise().norm().maxCoeff() : 0.0;
 }
 
-// Vertex v where it is now keeps the frame clean: its faces and edges cross nothing, it is not
-// inside the body, and it is at least `clearance` from it.
+// A patch of vertices where they are now keeps the frame clean: their faces and edges cross
+// nothing, none is inside the body, and each is at least its floor from it.
 class MoveCheck {
  public:
   MoveCheck(const Body& body, const TriMesh& garment) : body_(body), garment_(garment), topo_(garment) {
     vertexFaceLists(garment.F, garment.V.rows(), start_, faces_);
+    mark_.assign(static_cast<std::size_t>(garment.F.rows()), 0);
   }
-  bool clean(int v, double clearance) {
-    around_.assign(faces_.begin() + start_[static_cast<std::size_t>(v)], faces_.begin() + start_[static_cast<std::size_t>(v) + 1]);
+  bool clean(const std::vector<int>& patch, const std::vector<double>& floors) {
+    around_.clear();
+    for (int v : patch)
+      for (int i = start_[static_cast<std::size_t>(v)]; i < start_[static_cast<std::size_t>(v) + 1]; ++i) {
+        const int f = faces_[static_cast<std::size_t>(i)];
+        if (!mark_[static_cast<std::size_t>(f)]) {
+          mark_[static_cast<std::size_t>(f)] = 1;
+          around_.push_back(f);
+        }
+      }
+    for (int f : around_) mark_[static_cast<std::size_t>(f)] = 0;
+    if (patch.size() > 1) std::sort(around_.begin(), around_.end());
     detectCrossings(body_, garment_, topo_, crossings_, &around_);
     if (crossings_.size() > 0) return false;
-    const Eigen::Vector3d p = garment_.V.row(v).transpose();
-    if (pointInsideBody(body_, p)) return false;
-    return !(clearance > 0) || closestPointOnBody(body_, p).distance >= clearance;
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      const Eigen::Vector3d p = garment_.V.row(patch[i]).transpose();
+      if (pointInsideBody(body_, p)) return false;
+      if (floors[i] > 0 && closestPointOnBody(body_, p).distance < floors[i]) return false;
+    }
+    return true;
   }
   double distance(int v) const { return closestPointOnBody(body_, garment_.V.row(v).transpose()).distance; }
+  const GarmentTopology& topology() const { return topo_; }
 
  private:
   const Body& body_;
   const TriMesh& garment_;
   GarmentTopology topo_;
   std::vector<int> start_, faces_, around_;
+  std::vector<char> mark_;
   CrossingSet crossings_;
+};
+
+// Vertex v and `rings` rings of its neighbours over the garment's edges (v first).
+class Patches {
+ public:
+  Patches(const GarmentTopology& topo, Eigen::Index nv) : seen_(static_cast<std::size_t>(nv), 0) {
+    start_.assign(static_cast<std::size_t>(nv) + 1, 0);
+    for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
+      ++start_[static_cast<std::size_t>(topo.edges(e, 0)) + 1];
+      ++start_[static_cast<std::size_t>(topo.edges(e, 1)) + 1];
+    }
+    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    next_.assign(static_cast<std::size_t>(start_.back()), 0);
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
+      const int a = topo.edges(e, 0), b = topo.edges(e, 1);
+      next_[static_cast<std::size_t>(fill[static_cast<std::size_t>(a)]++)] = b;
+      next_[static_cast<std::size_t>(fill[static_cast<std::size_t>(b)]++)] = a;
+    }
+  }
+  std::vector<int> around(int v, int rings) {
+    std::vector<int> patch{v};
+    seen_[static_cast<std::size_t>(v)] = 1;
+    for (std::size_t begin = 0, r = 0; r < static_cast<std::size_t>(std::max(0, rings)); ++r) {
+      const std::size_t end = patch.size();
+      for (std::size_t i = begin; i < end; ++i)
+        for (int k = start_[static_cast<std::size_t>(patch[i])]; k < start_[static_cast<std::size_t>(patch[i]) + 1]; ++k) {
+          const int u = next_[static_cast<std::size_t>(k)];
+          if (!seen_[static_cast<std::size_t>(u)]) {
+            seen_[static_cast<std::size_t>(u)] = 1;
+            patch.push_back(u);
+          }
+        }
+      begin = end;
+    }
+    for (int u : patch) seen_[static_cast<std::size_t>(u)] = 0;
+    return patch;
+  }
+
+ private:
+  std::vector<int> start_, next_;
+  std::vector<char> seen_;
 };
 
 // The previous correction on this frame's input, p, lies inside the body deeper than `limit`:
@@ -71,7 +129,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     rep.message = "the input and the previous correction need the garment's " + std::to_string(n) + " rows";
     return rep;
   }
-  rep.change_before = rep.change_after = rep.change_after_unforced = largestChange(garment, input, previousCorrection);
+  rep.change_before = rep.change_after = rep.change_after_unforced = largestChange(garment.V, input, previousCorrection);
   const double limit = params.max_change;
   if (!(limit > 0) || rep.change_before <= limit) return rep;
   std::vector<int> over;
@@ -80,29 +138,51 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
   rep.candidates = over.size();
   const MatrixX3d resolved = garment.V;
   MoveCheck check(body, garment);
-  std::vector<double> floor(over.size());
-  for (std::size_t i = 0; i < over.size(); ++i)
-    floor[i] = params.min_clearance > 0 ? std::min(params.min_clearance, check.distance(over[i])) : 0.0;
+  Patches patches(check.topology(), n);
+  // Per vertex: the clearance it keeps when it moves (the limit, or as far as it was if nearer);
+  // -1 until it first moves.
+  std::vector<double> floor(static_cast<std::size_t>(n), -1.0);
+  auto floorOf = [&](int u) {
+    double& f = floor[static_cast<std::size_t>(u)];
+    if (f < 0) f = params.min_clearance > 0 ? std::min(params.min_clearance, check.distance(u)) * (1 - 1e-9) : 0.0;
+    return f;
+  };
+  std::vector<int> patch;
+  std::vector<double> floors;
+  MatrixX3d from, step;
   for (int pass = 0; pass < std::max(1, params.passes); ++pass) {
     bool moved = false;
-    for (std::size_t i = 0; i < over.size(); ++i) {
-      const int v = over[i];
+    for (const int v : over) {
       const Eigen::RowVector3d change = (garment.V.row(v) - input.row(v)) - previousCorrection.row(v);
       const double len = change.norm();
       if (len <= limit * (1 + 1e-9)) continue;
-      const Eigen::RowVector3d from = garment.V.row(v);
-      const Eigen::RowVector3d step = -change * (1.0 - limit / len);
+      // v to a change of the limit, its rings the same fraction of their own way back.
+      const double fraction = 1.0 - limit / len;
+      patch = patches.around(v, params.rings);
+      floors.resize(patch.size());
+      from.resize(static_cast<Eigen::Index>(patch.size()), 3);
+      step.resize(from.rows(), 3);
+      for (std::size_t i = 0; i < patch.size(); ++i) {
+        const int u = patch[i];
+        floors[i] = floorOf(u);
+        from.row(static_cast<Eigen::Index>(i)) = garment.V.row(u);
+        step.row(static_cast<Eigen::Index>(i)) = -fraction * ((garment.V.row(u) - input.row(u)) - previousCorrection.row(u));
+      }
+      auto place = [&](double t) {
+        for (std::size_t i = 0; i < patch.size(); ++i)
+          garment.V.row(patch[i]) = from.row(static_cast<Eigen::Index>(i)) + t * step.row(static_cast<Eigen::Index>(i));
+      };
       // The whole step, else the largest clean part of it found by bisection (the resolved
       // position, part 0, is clean).
       double lo = 0, hi = 1;
-      garment.V.row(v) = from + step;
-      if (check.clean(v, floor[i] * (1 - 1e-9))) lo = 1;
+      place(1);
+      if (check.clean(patch, floors)) lo = 1;
       for (int b = 0; b < std::max(0, params.bisections) && lo < 1; ++b) {
         const double mid = 0.5 * (lo + hi);
-        garment.V.row(v) = from + mid * step;
-        (check.clean(v, floor[i] * (1 - 1e-9)) ? lo : hi) = mid;
+        place(mid);
+        (check.clean(patch, floors) ? lo : hi) = mid;
       }
-      garment.V.row(v) = from + lo * step;
+      place(lo);
       moved = moved || lo > 0;
     }
     if (!moved) break;
@@ -131,4 +211,65 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
   return rep;
 }
 
+namespace {
+
+// The largest change of a correction between consecutive frames.
+double largestSequenceChange(const std::vector<MatrixX3d>& resolved, const std::vector<MatrixX3d>& inputs) {
+  double largest = 0;
+  for (std::size_t k = 1; k < resolved.size(); ++k)
+    largest = std::max(largest, largestChange(resolved[k], inputs[k], resolved[k - 1] - inputs[k - 1]));
+  return largest;
+}
+
+std::string sequenceSizeProblem(const std::vector<MatrixX3d>& resolved, const std::vector<MatrixX3d>& inputs,
+                                const MatrixX3i& faces, const std::vector<double>& minClearance) {
+  if (inputs.size() != resolved.size() || minClearance.size() != resolved.size())
+    return "the resolved frames, their inputs and their clearances must be as many (" + std::to_string(resolved.size()) +
+           ", " + std::to_string(inputs.size()) + ", " + std::to_string(minClearance.size()) + ")";
+  for (std::size_t k = 0; k < resolved.size(); ++k)
+    if (resolved[k].rows() != resolved[0].rows() || inputs[k].rows() != resolved[0].rows())
+      return "frame " + std::to_string(k) + " does not have the first frame's " + std::to_string(resolved[0].rows()) +
+             " vertices";
+  if (faces.size() && (faces.minCoeff() < 0 || (!resolved.empty() && faces.maxCoeff() >= resolved[0].rows())))
+    return "a face's corner is not a vertex of the frames";
+  return "";
+}
+
+}  // namespace
+
+BackwardCoherenceReport limitCorrectionChangeBackward(std::vector<MatrixX3d>& resolved,
+                                                      const std::vector<MatrixX3d>& inputs, const MatrixX3i& faces,
+                                                      const std::function<const Body&(int)>& bodyAt,
+                                                      const std::vector<double>& minClearance,
+                                                      const CoherenceParams& params) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BackwardCoherenceReport rep;
+  rep.message = sequenceSizeProblem(resolved, inputs, faces, minClearance);
+  if (!rep.message.empty()) return rep;
+  rep.change_before = rep.change_after = largestSequenceChange(resolved, inputs);
+  const double limit = params.max_change;
+  if (!(limit > 0) || rep.change_before <= limit * (1 + 1e-9)) return rep;
+  for (int k = static_cast<int>(resolved.size()) - 2; k >= 0; --k) {
+    const std::size_t i = static_cast<std::size_t>(k);
+    const MatrixX3d next = resolved[i + 1] - inputs[i + 1];
+    if (largestChange(resolved[i], inputs[i], next) <= limit * (1 + 1e-9)) continue;
+    TriMesh garment{resolved[i], faces};
+    CoherenceParams cp = params;
+    cp.min_clearance = minClearance[i];
+    cp.rings = params.backward_rings;
+    const CoherenceReport c = limitCorrectionChange(bodyAt(k), garment, inputs[i], next, cp);
+    resolved[i] = std::move(garment.V);
+    rep.frames.push_back(k);
+    rep.reports.push_back(c);
+    rep.candidates += c.candidates;
+    rep.limited += c.limited;
+    rep.partly += c.partly;
+    rep.held += c.held;
+  }
+  rep.change_after = largestSequenceChange(resolved, inputs);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
 }  // namespace virtual_tryon
+
