@@ -3,6 +3,8 @@
 #include "virtual_tryon/core/geometry/point_queries.h"
 #include "virtual_tryon/core/resolve/intersections.h"
 
+#include "core/resolve/resolver_run.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,18 +12,6 @@
 
 namespace virtual_tryon {
 namespace {
-
-// Faces round each vertex, as offsets into one list.
-void vertexFaceLists(const MatrixX3i& F, Eigen::Index nv, std::vector<int>& start, std::vector<int>& faces) {
-  start.assign(static_cast<std::size_t>(nv) + 1, 0);
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(F(f, k)) + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  faces.assign(static_cast<std::size_t>(start.back()), 0);
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(F(f, k))]++)] = static_cast<int>(f);
-}
 
 double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d& previous) {
   return V.rows() ? ((V - input) - previous).rowwise().norm().maxCoeff() : 0.0;
@@ -31,15 +21,15 @@ double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d
 // nothing, none is inside the body, and each is at least its floor from it.
 class MoveCheck {
  public:
-  MoveCheck(const Body& body, const TriMesh& garment) : body_(body), garment_(garment), topo_(garment) {
-    vertexFaceLists(garment.F, garment.V.rows(), start_, faces_);
+  MoveCheck(const Body& body, const TriMesh& garment)
+      : body_(body), garment_(garment), topo_(garment), graph_(garment, topo_) {
     mark_.assign(static_cast<std::size_t>(garment.F.rows()), 0);
   }
   bool clean(const std::vector<int>& patch, const std::vector<double>& floors) {
     around_.clear();
     for (int v : patch)
-      for (int i = start_[static_cast<std::size_t>(v)]; i < start_[static_cast<std::size_t>(v) + 1]; ++i) {
-        const int f = faces_[static_cast<std::size_t>(i)];
+      for (int i = graph_.vf_start[static_cast<std::size_t>(v)]; i < graph_.vf_start[static_cast<std::size_t>(v) + 1]; ++i) {
+        const int f = graph_.vf[static_cast<std::size_t>(i)];
         if (!mark_[static_cast<std::size_t>(f)]) {
           mark_[static_cast<std::size_t>(f)] = 1;
           around_.push_back(f);
@@ -57,13 +47,14 @@ class MoveCheck {
     return true;
   }
   double distance(int v) const { return closestPointOnBody(body_, garment_.V.row(v).transpose()).distance; }
-  const GarmentTopology& topology() const { return topo_; }
+  const resolver_run::GarmentGraph& graph() const { return graph_; }
 
  private:
   const Body& body_;
   const TriMesh& garment_;
   GarmentTopology topo_;
-  std::vector<int> start_, faces_, around_;
+  resolver_run::GarmentGraph graph_;  // the faces round each vertex, the neighbours over edges
+  std::vector<int> around_;
   std::vector<char> mark_;
   CrossingSet crossings_;
 };
@@ -71,21 +62,8 @@ class MoveCheck {
 // Vertex v and `rings` rings of its neighbours over the garment's edges (v first).
 class Patches {
  public:
-  Patches(const GarmentTopology& topo, Eigen::Index nv) : seen_(static_cast<std::size_t>(nv), 0) {
-    start_.assign(static_cast<std::size_t>(nv) + 1, 0);
-    for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
-      ++start_[static_cast<std::size_t>(topo.edges(e, 0)) + 1];
-      ++start_[static_cast<std::size_t>(topo.edges(e, 1)) + 1];
-    }
-    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
-    next_.assign(static_cast<std::size_t>(start_.back()), 0);
-    std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (Eigen::Index e = 0; e < topo.edges.rows(); ++e) {
-      const int a = topo.edges(e, 0), b = topo.edges(e, 1);
-      next_[static_cast<std::size_t>(fill[static_cast<std::size_t>(a)]++)] = b;
-      next_[static_cast<std::size_t>(fill[static_cast<std::size_t>(b)]++)] = a;
-    }
-  }
+  explicit Patches(const resolver_run::GarmentGraph& graph)
+      : start_(graph.adj_start), next_(graph.adj_v), seen_(graph.vf_start.size(), 0) {}
   std::vector<int> around(int v, int rings) {
     std::vector<int> patch{v};
     seen_[static_cast<std::size_t>(v)] = 1;
@@ -106,7 +84,8 @@ class Patches {
   }
 
  private:
-  std::vector<int> start_, next_;
+  const std::vector<int>& start_;
+  const std::vector<int>& next_;
   std::vector<char> seen_;
 };
 
@@ -138,7 +117,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
   rep.candidates = over.size();
   const MatrixX3d resolved = garment.V;
   MoveCheck check(body, garment);
-  Patches patches(check.topology(), n);
+  Patches patches(check.graph());
   // Per vertex: the clearance it keeps when it moves (the limit, or as far as it was if nearer);
   // -1 until it first moves.
   std::vector<double> floor(static_cast<std::size_t>(n), -1.0);
