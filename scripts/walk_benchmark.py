@@ -119,7 +119,9 @@ def strain_columns(frames):
 
 
 def timing_columns(lines):
-    s, frames = summary_of(lines), frames_of(lines)
+    """ms mean / median / max over every frame (the summary's), and the body's and the resolver's
+    means over the frames after the first (frame 0 builds the body's trees)."""
+    s, frames = summary_of(lines), [d for d in frames_of(lines) if d["frame"] > 0]
     body = statistics.mean(d["ms_body"] for d in frames)
     resolve = statistics.mean(d["ms_resolve"] for d in frames)
     return "%.1f / %.1f / %.1f" % (s["ms_mean"], s["ms_median"], s["ms_max"]), "%.1f" % body, "%.1f" % resolve
