@@ -49,8 +49,13 @@ class CollisionResponse {
 
   void operator()(const MatrixX3d& x, MatrixX3d& v) {
     const Eigen::Index n = x.rows();
-    sum_.setZero(n, 3);
-    count_.assign(static_cast<std::size_t>(n), 0);
+    // Only the nodes a response reaches are written (a few hundred of thousands): the sums and
+    // counts are zero between calls, and the nodes touched are listed to be averaged and reset.
+    if (sum_.rows() != n) {
+      sum_.setZero(n, 3);
+      count_.assign(static_cast<std::size_t>(n), 0);
+    }
+    touched_.clear();
     colliding_ = 0;
     Eigen::Vector3d normal, surface;
     double depth = 0;
@@ -61,8 +66,7 @@ class CollisionResponse {
       // step, so points the velocity response alone leaves inside come out (bounded: at most
       // push_out * depth / dt).
       if (depth > p_.tol && dt_ > 0) r += (push_out_ * (depth - p_.tol) / dt_) * normal;
-      sum_.row(i) += r.transpose();
-      ++count_[i];
+      add(i, r.transpose());
       ++colliding_;
     }
     if (quads_)
@@ -72,16 +76,21 @@ class CollisionResponse {
         const Eigen::Vector3d vm = 0.25 * (v.row(q[0]) + v.row(q[1]) + v.row(q[2]) + v.row(q[3])).transpose();
         const Eigen::RowVector3d r =
             movingCollisionResponse(vm, normal, surface, p_.friction, p_.reflection).transpose();
-        for (int c : q) {
-          sum_.row(c) += r;
-          ++count_[c];
-        }
+        for (int c : q) add(c, r);
       }
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (count_[i]) v.row(i) = sum_.row(i) / count_[i];
+    for (const Eigen::Index i : touched_) {
+      v.row(i) = sum_.row(i) / count_[static_cast<std::size_t>(i)];
+      sum_.row(i).setZero();
+      count_[static_cast<std::size_t>(i)] = 0;
+    }
   }
 
  private:
+  void add(Eigen::Index i, const Eigen::RowVector3d& r) {
+    if (count_[static_cast<std::size_t>(i)]++ == 0) touched_.push_back(i);
+    sum_.row(i) += r;
+  }
+
   Collider collider_;
   CollisionParams p_;
   bool quads_;
@@ -89,6 +98,7 @@ class CollisionResponse {
   double dt_, push_out_;
   MatrixX3d sum_;
   std::vector<int> count_;
+  std::vector<Eigen::Index> touched_;  // nodes with count_ > 0, in the order first reached
   std::size_t colliding_ = 0;
 };
 
