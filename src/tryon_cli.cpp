@@ -69,7 +69,7 @@ std::string usage() {
          "      INPUT (edge strain max / p99, displacement, the need, far vertices moved).\n"
          "      Exit 0 when all counts are zero, 3 otherwise.\n"
          "  tryon drape --body B --pattern P.yaml --out OUT [--spacing M] [--mode image|object]\n"
-         "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--map-size N]\n"
+         "              [--dt S] [--max-iterations N] [--no-resolve] [--tol M] [--friction F] [--map-size N]\n"
          "              [--density KG_M2] [--k-structural K] [--k-shear K] [--k-flexion K]\n"
          "              [--max-strain S] [--body-uncertainty M] [--render PREFIX]\n"
          "      Sews and drapes the garment given by the cutting patterns P.yaml\n"
@@ -90,6 +90,8 @@ std::string usage() {
          "                     a dt above the bound is refused)\n"
          "      --max-iterations  sewing + draping iterations (default " + g(d.max_iterations) + ")\n"
          "      --tol          collision tolerance, m (default " + g(d.collision.tol) + ")\n"
+         "      --friction     kept fraction of the tangential velocity in a collision, 0 .. 1\n"
+         "                     (default " + g(d.collision.friction) + ")\n"
          "      --map-size     depth map pixels along the longer side (default 0: one pixel = tol;\n"
          "                     else 16 .. 4096)\n"
          "      --density      cloth density, kg/m^2 (default " + g(d.cloth.density) + ")\n"
@@ -476,6 +478,7 @@ vt::DrapeParams drapeParams(const std::map<std::string, std::string>& opt) {
   p.max_iterations = integer(opt, "max-iterations", p.max_iterations, 1, 1000000000);
   p.resolve = !opt.count("no-resolve");
   p.collision.tol = number(opt, "tol", p.collision.tol);
+  p.collision.friction = number(opt, "friction", p.collision.friction);
   p.collision.map_size = integer(opt, "map-size", p.collision.map_size, 0, 1000000000);
   p.cloth.density = number(opt, "density", p.cloth.density);
   p.cloth.k_structural = number(opt, "k-structural", p.cloth.k_structural);
@@ -987,7 +990,7 @@ int main(int argc, char** argv) {
     }
     if (cmd == "drape") {
       allowOnly(opt, cmd, {"body", "pattern", "out", "spacing", "mode", "dt", "max-iterations",
-                           "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
+                           "no-resolve", "tol", "friction", "map-size", "density", "k-structural", "k-shear",
                            "k-flexion", "max-strain", "body-uncertainty", "render", "strain-scale", "title",
                            "placement", "scale-to-height", "max-vertices", "max-faces"});
       return drape(opt);
@@ -1005,7 +1008,7 @@ int main(int argc, char** argv) {
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
                                           "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "quick-sweeps", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
-                                          "no-resolve", "tol", "map-size", "density", "k-structural", "k-shear",
+                                          "no-resolve", "tol", "friction", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});
         return animateDrape(opt);

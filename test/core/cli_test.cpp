@@ -134,6 +134,14 @@ TEST(Cli, DrapeOptionsReachTheCore) {
   // An explicit dt below the bound is used as given.
   r = runCli(base + "--spacing 0.03 --max-iterations 20 --dt 0.001");
   EXPECT_TRUE(contains(r.out, "\"dt_s\": 0.001,")) << r.out;
+  // --friction reaches the collision response: the same short drape with the cloth kept still
+  // against the bag (0) and sliding freely on it (1) ends in different places.
+  r = runCli(base + "--spacing 0.03 --max-iterations 300 --friction 0");
+  const std::string held = readText(dir + "/o.obj");
+  r = runCli(base + "--spacing 0.03 --max-iterations 300 --friction 1");
+  const std::string sliding = readText(dir + "/o.obj");
+  EXPECT_FALSE(held.empty());
+  EXPECT_NE(held, sliding);
 }
 
 TEST(Cli, DrapeBadInputExitsTwo) {

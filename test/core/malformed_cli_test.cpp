@@ -180,6 +180,8 @@ TEST(MalformedCli, MeshFilesPatternsAndParameters) {
       {"dt above the bound", drape + "$D/bag.yaml --dt 0.5", 2, "is above the stability bound"},
       {"negative dt", drape + "$D/bag.yaml --dt -0.001", 2, "dt = -0.001 is out of range"},
       {"tol 0", drape + "$D/bag.yaml --tol 0", 2, "tol = 0 is out of range (> 0 m)"},
+      {"friction above 1", drape + "$D/bag.yaml --friction 1.5", 2, "friction = 1.5 is out of range (0 .. 1)"},
+      {"friction not a number", drape + "$D/bag.yaml --friction sticky", 2, "--friction"},
       {"map size 1e6", drape + "$D/bag.yaml --map-size 1000000", 2, "map_size = 1e+06 is out of range"},
       {"map size 0 is automatic", drape + "$D/bag.yaml --map-size 0", 0, ""},
       {"spacing 0", drape + "$D/bag.yaml --spacing 0", 2, "spacing = 0 is out of range"},
