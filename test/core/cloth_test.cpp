@@ -416,8 +416,9 @@ TEST(Cloth, VelocityFixHasTheLastWordAfterTheCollisionHook) {
   const double before = maxLength(draping);
   ASSERT_TRUE(draping.step(1e-3, false));
   // No first-order growth (the hook alone would add 2 mm to 4 cm, 5%); the ends' sideways motion
-  // leaves a second-order rest.
-  EXPECT_LE(maxLength(draping), before + 1e-6);
+  // (the long diagonals' shear forces pull them in y) leaves a second-order rest: 5e-5 at the
+  // default shear stiffness of 20 N/m.
+  EXPECT_LE(maxLength(draping), before + 2e-4);
   // While sewing (gravity off, the seams pulling against the body) the hook may stretch.
   ClothState sewing(mesh, p);
   sewing.setVelocityHook(stretchingHook);
