@@ -1,8 +1,7 @@
 // A garment worn on a moving body (core/drape/worn_garment.h): the sleeveless shirt draped on the
 // project's swaying body (scenes/procedural_animation.h) and stepped through its frames, every frame
 // checked by the independent referee; the trousers through a stride of the legs; the frames made
-// ready ahead on a second thread; and what the
-// worn garment refuses.
+// ready ahead on a second thread; and what the worn garment refuses.
 #include "virtual_tryon/core/body/body.h"
 #include "virtual_tryon/core/drape/frames_ahead.h"
 #include "virtual_tryon/core/drape/worn_garment.h"
