@@ -27,12 +27,7 @@ constexpr int kContactPasses = 3;
 constexpr int kRotationIterations = 8;
 constexpr int kRotationsPerThread = 256;  // fewer active vertices: one thread fits their rotations
 constexpr int kPlanesPerThread = 128;     // fewer active vertices: one thread takes their first planes
-// rad: a rotation fit stops when its step is below this. The iteration converges linearly (about
-// half the error a step on a cloth's flat one-ring), so at 1e-6 nearly every fit ran all its
-// iterations; at 1e-3 they are 2.2x fewer, the rotations are refitted every few sweeps anyway,
-// and the relaxed shapes measure the same (resolve_benchmark: strain max / p99 and displacement
-// unchanged to the third digit; the walk's per-frame resolve 5-10% faster).
-constexpr double kRotationTolerance = 1e-3;
+constexpr double kRotationTolerance = 1e-6;  // rad: a rotation fit stops when its step is below this
 constexpr int kPolishRounds = 3;
 // A contact whose movable corners carry less weight than this is left to the step back (moving
 // them would lever them far out).
