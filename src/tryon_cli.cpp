@@ -127,9 +127,13 @@ std::string usage() {
          "      the previous frame's correction (a warm start: still resolved and checked whole, its\n"
          "      shape kept against its own input; a warm frame that does not converge is resolved\n"
          "      again from its input); --cold resolves every frame from its input alone.\n"
-         "      --warm-min M (default " + g(vt::kWarmStartMinCorrection) + "): only corrections of at least M\n"
-         "      are carried over (the smaller ones, spread by the relaxation, would spread further\n"
-         "      every frame).\n"
+         "      A warm frame is relaxed locally: round the vertices its rounds moved and the edges\n"
+         "      its start strains past 0.1, 3 rings; where that leaves an edge strained past\n"
+         "      --widen-strain S (default 0.25) against the input, over every moved vertex again.\n"
+         "      --full-relaxation: always over every moved vertex.\n"
+         "      --warm-min M (default 0; " + g(vt::kWarmStartMinCorrection) + " with --full-relaxation): only\n"
+         "      corrections of at least M are carried over (the full relaxation would spread the\n"
+         "      smaller ones further every frame).\n"
          "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
@@ -192,7 +196,7 @@ struct Usage : std::runtime_error {
 // Options without a value.
 const std::set<std::string> kFlags = {"no-resolve", "scale-to-height", "check", "warm-start", "cold", "no-body-velocity",
                                       "no-top-view", "side-view", "no-interpolate", "no-skin-velocity",
-                                      "no-resolve-relaxed", "no-carry", "sequential", "no-backward"};
+                                      "no-resolve-relaxed", "no-carry", "sequential", "no-backward", "full-relaxation"};
 
 std::map<std::string, std::string> parseOptions(int argc, char** argv, int first) {
   std::map<std::string, std::string> opt;
@@ -616,12 +620,16 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   if (bodyCache.samples.size() != garmentCache.samples.size())
     throw std::invalid_argument("the body cache has " + std::to_string(bodyCache.samples.size()) +
                                 " frames, the garment cache " + std::to_string(garmentCache.samples.size()));
-  const vt::ResolverParams params = resolverParams(opt);
+  vt::ResolverParams params = resolverParams(opt);
+  params.warm_local_relaxation = opt.count("full-relaxation") == 0;
+  params.warm_full_relaxation_strain = number(opt, "widen-strain", params.warm_full_relaxation_strain);
+  if (!(params.warm_full_relaxation_strain >= 0 && params.warm_full_relaxation_strain <= 10))
+    throw Usage("--widen-strain must be in [0, 10]");
   const bool check = opt.count("check") > 0;
   const bool warm = opt.count("cold") == 0;
-  const double warmMin = number(opt, "warm-min", vt::kWarmStartMinCorrection);
+  const double warmMin = number(opt, "warm-min", vt::defaultWarmStartMin(params));
   if (!(warmMin >= 0 && warmMin <= 1)) throw Usage("--warm-min must be in [0, 1] m");
-  std::size_t coldFallbacks = 0;
+  std::size_t coldFallbacks = 0, widened = 0;
   vt::CoherenceParams coherenceParams;
   coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
   if (!(coherenceParams.max_change >= 0 && coherenceParams.max_change <= 1))
@@ -657,6 +665,7 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         vt::resolveFrame(body, garment, warm ? previousCorrection : vt::MatrixX3d(), params, warmMin, &start);
     const bool warmNow = start == vt::FrameStart::Warm;
     if (start == vt::FrameStart::WarmFailedResolvedCold) ++coldFallbacks;
+    if (rep.relaxation_widened) ++widened;
     // Where the correction jumped since the frame before, the clean position nearest to the
     // previous correction (core/resolve/temporal_coherence.h).
     vt::CoherenceReport coherence;
@@ -712,6 +721,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
         .add("ms_relaxation_checks", 1e3 * rep.relaxation.seconds_checks)
         .add("relaxed_vertices", rep.relaxation.active_vertices)
         .add("relaxation_sweeps", rep.relaxation.sweeps)
+        .add("relaxation_local", rep.relaxation.local)
+        .add("relaxation_widened", rep.relaxation_widened)
         .add("warm_start", warmNow);
     if (coherent)
       line.json("coherence", vt::json::Obj()
@@ -749,6 +760,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
       .add("warm_start", warm)
       .add("warm_min_m", warmMin)
       .add("warm_frames_resolved_cold", coldFallbacks)
+      .add("warm_local_relaxation", warm && params.warm_local_relaxation)
+      .add("relaxations_widened", widened)
       .add("vertices_over_max_jitter", coherenceCandidates)
       .add("vertices_left_over_max_jitter", coherenceHeld)
       .add("vertices_left_over_forced_by_input", coherenceForced)
@@ -1014,7 +1027,7 @@ int main(int argc, char** argv) {
         return animateDrape(opt);
       }
       if (mode != "resolve") throw Usage("'animate' needs a mode: resolve or drape");
-      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "no-backward", "warm-min", "max-jitter", "clearance",
+      allowOnly(opt, "animate resolve", {"body", "body-cache", "garment", "garment-cache", "out", "check", "warm-start", "cold", "no-backward", "warm-min", "full-relaxation", "widen-strain", "max-jitter", "clearance",
                                           "body-uncertainty", "max-iterations", "objective", "max-vertices", "max-faces"});
       return animateResolve(opt);
     }

@@ -168,6 +168,7 @@ void TryonNode::readParameters() {
   pnh_.param("auto_fit", settings_.auto_fit, false);
   settings_.max_jitter = readDouble(pnh_, "max_jitter", settings_.max_jitter, false);
   pnh_.param("warm_start", settings_.warm_start, settings_.warm_start);
+  pnh_.param("warm_local_relaxation", p.warm_local_relaxation, d.warm_local_relaxation);
   const ScanMeshingParams sd;
   settings_.scan.voxel_size = readDouble(pnh_, "scan/voxel_size", sd.voxel_size, false);
   settings_.scan.normal_neighbours = readCount(pnh_, "scan/normal_neighbours", sd.normal_neighbours);
@@ -440,7 +441,7 @@ ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, 
   }
   FrameStart start = FrameStart::Cold;
   const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previousCorrection, params,
-                                                            kWarmStartMinCorrection, &start);
+                                                            defaultWarmStartMin(params), &start);
   if (start != FrameStart::Warm) warmFrom = 0;
   return report;
 }

@@ -7,11 +7,14 @@
 #include "virtual_tryon/core/scenes/procedural_body.h"
 #include "virtual_tryon/testing/reference_bvh.h"
 #include "virtual_tryon/testing/reference_check.h"
+#include "virtual_tryon/testing/reference_shape.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 
 using namespace virtual_tryon;
 
@@ -74,4 +77,84 @@ TEST(ProceduralAnimation, EveryFrameResolvesCleanOnItsRefittedBody) {
     EXPECT_EQ(c.body_edge_crossings, 0u);
     EXPECT_EQ(c.vertices_inside, 0u);
   }
+}
+
+namespace {
+
+struct WarmRun {
+  std::size_t relaxed = 0;  // vertices the warm frames' relaxations covered, summed
+  double worst_max_strain = 0, worst_p99_strain = 0;
+};
+
+// Resolves frames 0..n-1 of `a`, each warm from the frame before (resolveFrame), and judges every
+// frame by the referee on its own body against its own input.
+WarmRun resolveWarm(const ProceduralAnimation& a, const ResolverParams& params) {
+  WarmRun run;
+  std::unique_ptr<Body> body = std::make_unique<Body>(a.body);
+  MatrixX3d correction;
+  for (std::size_t f = 0; f < a.body_frames.size(); ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    if (f > 0) body = std::make_unique<Body>(std::move(*body), a.body_frames[f]);
+    const TriMesh input{a.garment_frames[f], a.garment.F};
+    TriMesh garment = input;
+    FrameStart start = FrameStart::Cold;
+    const ResolverReport r = resolveFrame(*body, garment, correction, params, -1, &start);
+    EXPECT_TRUE(r.converged) << r.reason;
+    EXPECT_EQ(start, f == 0 ? FrameStart::Cold : FrameStart::Warm);
+    if (f > 0) {
+      EXPECT_EQ(r.relaxation.local, params.warm_local_relaxation && !r.relaxation_widened);
+      run.relaxed += r.relaxation.active_vertices;
+    }
+    const ReferenceReferee referee(TriMesh{a.body_frames[f], a.body.F});
+    const ReferenceCounts c = referee.count(garment);
+    EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
+    const ReferenceShape shape = referenceShape(referee, input, garment, true);
+    run.worst_max_strain = std::max(run.worst_max_strain, shape.max_strain);
+    run.worst_p99_strain = std::max(run.worst_p99_strain, shape.p99_strain);
+    correction = garment.V - input.V;
+  }
+  return run;
+}
+
+}  // namespace
+
+// A warm frame carries the frame before's corrections, so nearly every vertex starts away from its
+// input; the local relaxation starts only from what the rounds moved and the edges the start
+// strains, and covers far fewer vertices than the full one, with every frame as clean and about as
+// little strained.
+TEST(ProceduralAnimation, WarmFramesRelaxLocallyCleanAndAsLittleStrained) {
+  ProceduralAnimationParams p;
+  p.frames = 6;
+  const ProceduralAnimation a = makeProceduralAnimation(p);
+  ResolverParams full;
+  full.warm_local_relaxation = false;
+  const WarmRun fullRun = resolveWarm(a, full);
+  const WarmRun localRun = resolveWarm(a, ResolverParams());
+  RecordProperty("relaxed_local", static_cast<int>(localRun.relaxed));
+  RecordProperty("relaxed_full", static_cast<int>(fullRun.relaxed));
+  RecordProperty("p99_local_x1000", static_cast<int>(1000 * localRun.worst_p99_strain));
+  RecordProperty("p99_full_x1000", static_cast<int>(1000 * fullRun.worst_p99_strain));
+  RecordProperty("max_local_x1000", static_cast<int>(1000 * localRun.worst_max_strain));
+  EXPECT_LE(localRun.worst_max_strain, 0.3);
+  EXPECT_LE(localRun.worst_p99_strain, fullRun.worst_p99_strain + 0.02);
+  EXPECT_LT(2 * localRun.relaxed, fullRun.relaxed) << "local " << localRun.relaxed << ", full " << fullRun.relaxed;
+}
+
+// Where the local result leaves an edge past warm_full_relaxation_strain, the relaxation runs again
+// over every moved vertex (0: always), and says so.
+TEST(ProceduralAnimation, ALocalRelaxationOverTheStrainLimitIsWidened) {
+  ProceduralAnimationParams p;
+  p.frames = 3;
+  const ProceduralAnimation a = makeProceduralAnimation(p);
+  ResolverParams widen;
+  widen.warm_full_relaxation_strain = 0;
+  const WarmRun run = resolveWarm(a, widen);
+  EXPECT_GT(run.relaxed, 0u);
+  std::unique_ptr<Body> body = std::make_unique<Body>(TriMesh{a.body_frames[1], a.body.F});
+  TriMesh garment{a.garment_frames[1], a.garment.F};
+  const MatrixX3d none = MatrixX3d::Zero(garment.V.rows(), 3);
+  const ResolverReport r = resolveFrame(*body, garment, none, widen);
+  EXPECT_TRUE(r.relaxation_widened);
+  EXPECT_FALSE(r.relaxation.local);
+  EXPECT_GT(r.max_edge_strain_after_local_relaxation, 0.0);
 }

@@ -73,8 +73,13 @@ MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double 
   return start;
 }
 
+double defaultWarmStartMin(const ResolverParams& params) {
+  return params.warm_local_relaxation ? 0.0 : kWarmStartMinCorrection;
+}
+
 ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
                             const ResolverParams& params, double minCarried, FrameStart* start) {
+  if (minCarried < 0) minCarried = defaultWarmStartMin(params);
   FrameStart how = FrameStart::Cold;
   ResolverReport rep;
   if (previousCorrection.rows() == garment.V.rows() && previousCorrection.cols() == 3) {

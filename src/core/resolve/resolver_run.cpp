@@ -166,7 +166,8 @@ ResolverRun::ResolverRun(const Body& body, const TriMesh& input, TriMesh& garmen
       d_((params.clearance > 0 ? params.clearance
                                : params.clearance_fraction * meanLength(input.V, topo_.edges)) +
          std::max(0.0, params.body_uncertainty)),
-      insideTest_(params.check_inside && body.closed()) {
+      insideTest_(params.check_inside && body.closed()),
+      warm_(&input != &garment) {
   rep_.body_closed = body.closed();
   rep_.clearance = d_;
   rep_.body_uncertainty = std::max(0.0, params.body_uncertainty);
@@ -632,10 +633,32 @@ bool ResolverRun::relaxShape() {
   if (params_.body_uncertainty > 0 && relaxation.face_clearance == 0) relaxation.face_clearance = d_;
   const double t0 = clock_.now();
   rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
-  rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation, &candidates_);
+  if (warm_ && params_.warm_local_relaxation) {
+    relaxation.local = true;
+    relaxation.seeds = movedByRounds();
+    rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation, &candidates_);
+    rep_.max_edge_strain_after_local_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
+    rep_.relaxation_widened = rep_.max_edge_strain_after_local_relaxation > params_.warm_full_relaxation_strain;
+    relaxation.local = false;
+  }
+  if (rep_.relaxation_widened && params_.time_budget > 0) {
+    const double left = params_.time_budget - clock_.now();
+    if (left <= 0) rep_.relaxation_widened = false;  // keep the local result, clean as it is
+    relaxation.time_budget = relaxation.time_budget > 0 ? std::min(relaxation.time_budget, left) : left;
+  }
+  if (!rep_.relaxation.local || rep_.relaxation_widened)
+    rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation, &candidates_);
   rep_.relaxed = true;
   rep_.seconds_relaxation = clock_.now() - t0;
   return true;
+}
+
+// The vertices the rounds (and push-outs) moved away from where the run started them.
+std::vector<int> ResolverRun::movedByRounds() const {
+  std::vector<int> moved;
+  for (std::size_t i = 0; i < touchedList_.size(); ++i)
+    if ((garment_.V.row(touchedList_[i]) - startPos_[i]).squaredNorm() > 0) moved.push_back(touchedList_[i]);
+  return moved;
 }
 
 ResolverReport ResolverRun::finish() {

@@ -101,6 +101,7 @@ class ResolverRun {
   // For a converged run with the smooth objective: the shape relaxation (shape_relaxation.h),
   // which keeps the garment free of crossings; false when it does not apply.
   bool relaxShape();
+  std::vector<int> movedByRounds() const;
   // The last stage: the report, moved out of the run.
   ResolverReport finish();
 
@@ -150,6 +151,7 @@ class ResolverRun {
   const GarmentGraph graph_;
   const double d_;  // the clearance
   const bool insideTest_;
+  const bool warm_;  // started from a garment other than the input (resolvePenetrationsFrom)
 
   CrossingSet crossings_;
   // Each garment face's candidate body faces, kept by every detection of the run and the

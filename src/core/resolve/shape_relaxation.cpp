@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
@@ -99,17 +100,23 @@ class ShapeRelaxation {
   }
 
 
-  // The vertices the resolver moved, and `rings` rings of neighbours round them.
+  // The vertices the resolver moved, and `rings` rings of neighbours round them; with p_.local, the
+  // seeds and the ends of strained edges, and local_rings rings (chooseSeeds).
   void chooseActive() {
     active_flag_.assign(static_cast<std::size_t>(nv_), 0);
     moved_.assign(static_cast<std::size_t>(nv_), 0);
     std::vector<int> front;
     for (int v = 0; v < nv_; ++v)
       if ((g_.V.row(v) - in_.V.row(v)).squaredNorm() > 0) {
-        moved_[v] = active_flag_[v] = 1;
+        moved_[v] = 1;
+        if (p_.local) continue;
+        active_flag_[v] = 1;
         front.push_back(v);
       }
-    for (int r = 0; r < p_.rings; ++r) {
+    if (p_.local) chooseSeeds(front);
+    rep_.local = p_.local;
+    const int rings = p_.local ? p_.local_rings : p_.rings;
+    for (int r = 0; r < rings; ++r) {
       std::vector<int> next;
       for (int v : front)
         for (int i = graph_.adj_start[v]; i < graph_.adj_start[v + 1]; ++i)
@@ -141,6 +148,27 @@ class ShapeRelaxation {
     held_.assign(clean_.size(), 0);
     quat_.assign(clean_.size(), Eigen::Quaterniond::Identity());
     rot_.assign(clean_.size(), Eigen::Matrix3d::Identity());
+  }
+
+  // p_.local: the seeds, and both ends of each edge with a moved end strained past
+  // local_seed_strain against the input, flagged active and put on the front.
+  void chooseSeeds(std::vector<int>& front) {
+    auto seed = [&](int v) {
+      if (v < 0 || v >= nv_ || active_flag_[v]) return;
+      active_flag_[v] = 1;
+      front.push_back(v);
+    };
+    for (int v : p_.seeds) seed(v);
+    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
+      const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
+      if (!moved_[a] && !moved_[b]) continue;
+      const double l0 = (in_.V.row(a) - in_.V.row(b)).norm();
+      const double l = (g_.V.row(a) - g_.V.row(b)).norm();
+      if (l0 > 0 && std::abs(l / l0 - 1) > p_.local_seed_strain) {
+        seed(a);
+        seed(b);
+      }
+    }
   }
 
   // edge_rest_: per garment edge, its listed rest length (0: none), when rest_strain > 0.

@@ -82,6 +82,12 @@ struct ResolverParams {
   ZoneSolver solver = ZoneSolver::ImpactZone;
   ResolverObjective objective = ResolverObjective::Smooth;
   ShapeRelaxationParams relaxation;  // for ResolverObjective::Smooth
+  // A warm start (resolvePenetrationsFrom, a start other than the input itself): the relaxation
+  // runs locally (ShapeRelaxationParams::local, seeded with the vertices the rounds moved), and
+  // once more over every vertex away from its input when the local result leaves an edge strained
+  // past warm_full_relaxation_strain against the input. false: always over every moved vertex.
+  bool warm_local_relaxation = true;
+  double warm_full_relaxation_strain = 0.25;
   // Smooth objective: before the rounds, move every vertex found inside to its nearest body point
   // plus the clearance (a closed body, and push_out_inside), so the rounds only clear what a
   // vertex cannot see. A time budget also bounds the relaxation (what is left of it).
@@ -123,6 +129,10 @@ struct ResolverReport {
   std::string objective;          // "paper" or "smooth"
   bool relaxed = false;           // the shape relaxation ran (smooth objective, converged)
   double max_edge_strain_before_relaxation = 0;  // the rounds' own result, when relaxed
+  // A warm start's local relaxation left an edge past warm_full_relaxation_strain (this strain, its
+  // largest), and the relaxation ran again over every moved vertex; `relaxation` is that run's.
+  bool relaxation_widened = false;
+  double max_edge_strain_after_local_relaxation = 0;
   ShapeRelaxationReport relaxation;
   double seconds_detection = 0;
   double seconds_solve = 0;
@@ -153,19 +163,27 @@ ResolverReport resolvePenetrations(const Body& body, TriMesh& garment,
 // shape relaxation keeps the shape of and pulls back to, and what the report's strain and
 // displacement are measured against: a correction the start carries but this input no longer
 // needs is given back, and one that the input's motion would strain is turned with it. The
-// relaxation runs even when the start is already clean. The "before" counts are the start's.
+// relaxation runs even when the start is already clean (locally, with warm_local_relaxation: round
+// what the rounds moved and the edges the start strains). The "before" counts are the start's.
 ResolverReport resolvePenetrationsFrom(const Body& body, const TriMesh& input, TriMesh& garment,
                                        const ResolverParams& params = ResolverParams());
 
-// m: the smallest correction that warmStart() carries over, by default.
+// m: the smallest correction that warmStart() carries over with the full relaxation
+// (warm_local_relaxation false). The smaller ones are mostly what that relaxation spread round a
+// push; carried over, they would be spread a few rings further every frame, until the whole
+// garment floats off its input (on the walk's skirt: 161 vertices that started over 1 cm from the
+// body moved by frame 30, against 39 cold; 5 with 2 mm). The local relaxation does not spread
+// them, and a cut at 2 mm would leave the edges between carried and dropped corrections strained
+// (the skirt's p99 0.015 -> 0.047), so with it every correction is carried (0).
 constexpr double kWarmStartMinCorrection = 0.002;
+
+// The smallest correction carried over by default for these parameters: 0 with
+// warm_local_relaxation, else kWarmStartMinCorrection.
+double defaultWarmStartMin(const ResolverParams& params);
 
 // The warm start of an animation frame: `input` (#V by 3) moved by the previous frame's
 // `correction` (resolved minus input, #V by 3) on the vertices where that correction is at least
-// `minCarried` metres. The smaller ones are mostly what the shape relaxation spread round a push;
-// carried over, they would be spread a few rings further every frame, until the whole garment
-// floats off its input (on the walk's skirt: 161 vertices that started over 1 cm from the body
-// moved by frame 30, against 39 cold; 5 with the 2 mm default). Sizes that do not match: `input`.
+// `minCarried` metres (see kWarmStartMinCorrection). Sizes that do not match: `input`.
 MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double minCarried = kWarmStartMinCorrection);
 
 // How resolveFrame() started a frame.
@@ -173,11 +191,11 @@ enum class FrameStart { Cold, Warm, WarmFailedResolvedCold };
 
 // One frame of an animation: `garment` comes in as the frame's input and leaves resolved. With a
 // `previousCorrection` of its size, it starts from warmStart(input, previousCorrection, minCarried)
-// (resolvePenetrationsFrom); a warm start that does not converge is resolved again from the input
+// (resolvePenetrationsFrom; minCarried < 0: defaultWarmStartMin(params)); a warm start that does not converge is resolved again from the input
 // alone, its time added, so the frame is correct on its own whatever the frame before did. Else
 // (empty correction, say) resolvePenetrations. `start` (may be null) says which it was.
 ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
-                            const ResolverParams& params = ResolverParams(), double minCarried = kWarmStartMinCorrection,
+                            const ResolverParams& params = ResolverParams(), double minCarried = -1,
                             FrameStart* start = nullptr);
 
 }  // namespace virtual_tryon

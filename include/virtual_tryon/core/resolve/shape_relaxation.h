@@ -99,10 +99,21 @@ struct ShapeRelaxationParams {
   // Edges not in the list, and pairs that are not edges, are left as without it.
   std::vector<EdgeRestLength> rest_lengths;
   double rest_strain = 0;
+  // Local relaxation (a warm start of an animation frame, which carries the frame before's
+  // corrections, so that nearly every vertex is away from its input although only a few crossings
+  // came in): when set, the stage starts only from `seeds` (vertex indices; the resolver passes the
+  // vertices its rounds moved) and from both ends of every edge strained past local_seed_strain
+  // (|l / l0 - 1|) against the input, then local_rings rings round them, instead of every vertex
+  // away from its input and `rings` rings. Every other vertex keeps its position.
+  bool local = false;
+  std::vector<int> seeds;
+  double local_seed_strain = 0.1;
+  int local_rings = 3;
 };
 
 struct ShapeRelaxationReport {
   std::size_t active_vertices = 0;   // vertices the stage may move
+  bool local = false;                // chosen round the seeds (ShapeRelaxationParams::local)
   int sweeps = 0;
   std::size_t steps_back = 0;        // vertex steps undone (halved or reverted) to stay clean
   std::size_t plane_queries = 0;     // nearest-body-point queries
