@@ -661,8 +661,9 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
     // correct on its own) and relaxes it against this frame's input. Where a warm frame does not
     // converge, the frame is resolved again from its input alone.
     vt::FrameStart start = vt::FrameStart::Cold;
-    const vt::ResolverReport rep =
-        vt::resolveFrame(body, garment, warm ? previousCorrection : vt::MatrixX3d(), params, warmMin, &start);
+    vt::PreviousFrame previous;
+    if (warm && f > 0) previous = vt::PreviousFrame{garmentCache.samples[f - 1], previousCorrection};
+    const vt::ResolverReport rep = vt::resolveFrame(body, garment, previous, params, warmMin, &start);
     const bool warmNow = start == vt::FrameStart::Warm;
     if (start == vt::FrameStart::WarmFailedResolvedCold) ++coldFallbacks;
     if (rep.relaxation_widened) ++widened;

@@ -417,7 +417,7 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
       said = o.str();
     }
   }
-  if (converged) last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, garment.V - input};
+  if (converged) last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, input, garment.V - input};
   else last_resolved_ = ResolvedFrame();
   return said;
 }
@@ -431,16 +431,16 @@ bool TryonNode::lastResolvedPrecedes(const BodyState& body, const TriMesh& garme
 ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, const ResolverParams& params,
                                        bool topicFrame, std::uint64_t& warmFrom) {
   warmFrom = 0;
-  MatrixX3d previousCorrection;
+  PreviousFrame previous;
   if (topicFrame && settings_.warm_start) {
     std::lock_guard<std::mutex> lock(resolved_mutex_);
     if (lastResolvedPrecedes(body, garment)) {
-      previousCorrection = last_resolved_.correction;
+      previous = PreviousFrame{last_resolved_.input, last_resolved_.correction};
       warmFrom = last_resolved_.frame_index + 1;
     }
   }
   FrameStart start = FrameStart::Cold;
-  const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previousCorrection, params,
+  const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previous, params,
                                                             defaultWarmStartMin(params), &start);
   if (start != FrameStart::Warm) warmFrom = 0;
   return report;

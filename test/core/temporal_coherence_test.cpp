@@ -202,7 +202,9 @@ TEST(TemporalCoherence, TheBackwardPassSpreadsAJumpOverTheFramesBeforeIt) {
     EXPECT_EQ(resolved[2], b.bumped);
     for (int k = 0; k < 3; ++k) {
       const MatrixX3d& c = resolved[static_cast<std::size_t>(k)];
-      if (k < 2) EXPECT_LE(((resolved[k + 1] - c).rowwise().norm()).maxCoeff(), cp.max_change * (1 + 1e-6)) << k;
+      if (k < 2) {
+        EXPECT_LE(((resolved[k + 1] - c).rowwise().norm()).maxCoeff(), cp.max_change * (1 + 1e-6)) << k;
+      }
       const ReferenceCounts counts = referenceCounts(body.mesh(), TriMesh{c, F}, body.closed());
       EXPECT_EQ(counts.garment_edge_crossings + counts.body_edge_crossings + counts.vertices_inside, 0u) << k;
     }

@@ -102,7 +102,8 @@ class TryonNode {
   struct ResolvedFrame {
     std::uint64_t series = 0, frame_index = 0;
     MatrixX3i F;
-    MatrixX3d correction;
+    MatrixX3d input;       // the fit's input garment
+    MatrixX3d correction;  // resolved minus input
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;

@@ -77,14 +77,20 @@ double defaultWarmStartMin(const ResolverParams& params) {
   return params.warm_local_relaxation ? 0.0 : kWarmStartMinCorrection;
 }
 
-ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
+ResolverReport resolveFrame(const Body& body, TriMesh& garment, const PreviousFrame& previous,
                             const ResolverParams& params, double minCarried, FrameStart* start) {
   if (minCarried < 0) minCarried = defaultWarmStartMin(params);
   FrameStart how = FrameStart::Cold;
   ResolverReport rep;
-  if (previousCorrection.rows() == garment.V.rows() && previousCorrection.cols() == 3) {
-    TriMesh warm{warmStart(garment.V, previousCorrection, minCarried), garment.F};
-    rep = resolvePenetrationsFrom(body, garment, warm, params);
+  const MatrixX3d& correction = previous.correction;
+  if (correction.rows() == garment.V.rows() && correction.cols() == 3) {
+    TriMesh warm{warmStart(garment.V, correction, minCarried), garment.F};
+    ResolverParams warmParams = params;
+    if (params.warm_local_relaxation && previous.input.rows() == garment.V.rows() && previous.input.cols() == 3) {
+      warmParams.relaxation.local_previous_input = previous.input;
+      warmParams.relaxation.local_previous_result = previous.input + correction;
+    }
+    rep = resolvePenetrationsFrom(body, garment, warm, warmParams);
     if (rep.converged) {
       garment = std::move(warm);
       how = FrameStart::Warm;

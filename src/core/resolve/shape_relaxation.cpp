@@ -151,7 +151,8 @@ class ShapeRelaxation {
   }
 
   // p_.local: the seeds, and both ends of each edge with a moved end strained past
-  // local_seed_strain against the input, flagged active and put on the front.
+  // local_seed_strain against the input (and, given the frame before, past what it was there by
+  // local_seed_growth), flagged active and put on the front.
   void chooseSeeds(std::vector<int>& front) {
     auto seed = [&](int v) {
       if (v < 0 || v >= nv_ || active_flag_[v]) return;
@@ -159,16 +160,25 @@ class ShapeRelaxation {
       front.push_back(v);
     };
     for (int v : p_.seeds) seed(v);
+    const bool before = p_.local_previous_input.rows() == nv_ && p_.local_previous_result.rows() == nv_ &&
+                        p_.local_previous_input.cols() == 3 && p_.local_previous_result.cols() == 3;
     for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
       const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
       if (!moved_[a] && !moved_[b]) continue;
-      const double l0 = (in_.V.row(a) - in_.V.row(b)).norm();
-      const double l = (g_.V.row(a) - g_.V.row(b)).norm();
-      if (l0 > 0 && std::abs(l / l0 - 1) > p_.local_seed_strain) {
-        seed(a);
-        seed(b);
-      }
+      const double strain = strainOf(in_.V, g_.V, a, b);
+      if (!(strain > p_.local_seed_strain)) continue;
+      if (before &&
+          !(strain > strainOf(p_.local_previous_input, p_.local_previous_result, a, b) + p_.local_seed_growth))
+        continue;
+      seed(a);
+      seed(b);
     }
+  }
+
+  // |l / l0 - 1| of edge (a, b) in `out` against `in`; 0 for an edge of length 0 in `in`.
+  static double strainOf(const MatrixX3d& in, const MatrixX3d& out, int a, int b) {
+    const double l0 = (in.row(a) - in.row(b)).norm();
+    return l0 > 0 ? std::abs((out.row(a) - out.row(b)).norm() / l0 - 1) : 0.0;
   }
 
   // edge_rest_: per garment edge, its listed rest length (0: none), when rest_strain > 0.

@@ -189,12 +189,20 @@ MatrixX3d warmStart(const MatrixX3d& input, const MatrixX3d& correction, double 
 // How resolveFrame() started a frame.
 enum class FrameStart { Cold, Warm, WarmFailedResolvedCold };
 
+// What an animation frame leaves for the next one: its input and its correction (resolved minus
+// input), each #V by 3 in the garment's vertex order. An empty correction: no frame before.
+struct PreviousFrame {
+  MatrixX3d input;
+  MatrixX3d correction;
+};
+
 // One frame of an animation: `garment` comes in as the frame's input and leaves resolved. With a
-// `previousCorrection` of its size, it starts from warmStart(input, previousCorrection, minCarried)
-// (resolvePenetrationsFrom; minCarried < 0: defaultWarmStartMin(params)); a warm start that does not converge is resolved again from the input
+// previous.correction of its size, it starts from warmStart(input, previous.correction, minCarried)
+// (resolvePenetrationsFrom; minCarried < 0: defaultWarmStartMin(params)), its local relaxation
+// seeded against the frame before when previous.input has that size too; a warm start that does not converge is resolved again from the input
 // alone, its time added, so the frame is correct on its own whatever the frame before did. Else
 // (empty correction, say) resolvePenetrations. `start` (may be null) says which it was.
-ResolverReport resolveFrame(const Body& body, TriMesh& garment, const MatrixX3d& previousCorrection,
+ResolverReport resolveFrame(const Body& body, TriMesh& garment, const PreviousFrame& previous,
                             const ResolverParams& params = ResolverParams(), double minCarried = -1,
                             FrameStart* start = nullptr);
 
