@@ -108,6 +108,7 @@ def resolve_runs(data, out, garment):
     for _ in range(2):  # the second of two alternated runs
         variant("warm_time", [])
         variant("cold_time", ["--cold"])
+        variant("full_time", ["--full-relaxation"])
     return r
 
 
@@ -134,10 +135,12 @@ def jitter_column(r, mode):
 
 
 def resolve_tables(data, out, garments):
-    warm_rows, cold_rows = [], []
+    warm_rows, cold_rows, relax_rows = [], [], []
     for g in garments:
         print("walk_benchmark: resolve %s" % g, file=sys.stderr)
         r = resolve_runs(data, out, g)
+        relax_rows.append([RESOLVE_NAMES.get(g, g)] + relaxation_columns(r["warm_time"]) +
+                          relaxation_columns(r["full_time"]))
         for mode, rows in (("warm", warm_rows), ("cold", cold_rows)):
             check = frames_of(r[mode + "_check"])
             s = summary_of(r[mode + "_check"])
@@ -166,6 +169,23 @@ def resolve_tables(data, out, garments):
                  "jitter max / median mm after the backward pass (forward pass alone; without coherence)",
                  "vertices over 3 mm / left over forward / left over after the backward pass",
                  "frames with referee findings"], cold_rows)
+    print()
+    print("Warm frames relaxed locally (the default) and with `--full-relaxation`, the same runs:")
+    print()
+    print_table(["garment", "local: ms mean / median / max", "relaxed vertices a warm frame (mean)",
+                 "widened frames", "strain max / p99", "full: ms mean / median / max",
+                 "relaxed vertices a warm frame (mean)", "widened frames", "strain max / p99"], relax_rows)
+
+
+def relaxation_columns(lines):
+    """ms, the mean of relaxed vertices over the warm frames, the frames widened and the strain
+    (the tool's own, against each frame's input) of one run."""
+    s, frames = summary_of(lines), frames_of(lines)
+    warm = [d for d in frames if d["warm_start"]]
+    relaxed = statistics.mean(d["relaxed_vertices"] for d in warm) if warm else 0
+    strain, _ = strain_columns(frames)
+    return ["%.1f / %.1f / %.1f" % (s["ms_mean"], s["ms_median"], s["ms_max"]), "%.0f" % relaxed,
+            str(s.get("relaxations_widened", 0)), strain]
 
 
 def pattern_path(data, name):

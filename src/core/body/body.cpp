@@ -189,8 +189,17 @@ const BodyBVH& Body::bvh() const {
   std::call_once(bvh_once_, [this] {
     const auto t0 = std::chrono::steady_clock::now();
     auto b = std::make_unique<BodyBVH>();
+    // The detection's box tree (counted with the BVH) on a thread of its own while FCL builds its
+    // tree here: both only read the mesh (on body_hm08, 26,756 faces: 30-38 ms -> about 20).
+    std::thread faceTree([&b, this] { b->faceTree(mesh_); });
+    struct Join {
+      std::thread& t;
+      ~Join() {
+        if (t.joinable()) t.join();
+      }
+    } join{faceTree};
     b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
-    b->faceTree(mesh_);  // the detection's box tree, counted with the BVH
+    faceTree.join();
     bvh_ = std::move(b);
     bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     bvh_built_ = true;
