@@ -37,6 +37,15 @@ void checkFrameSize(Eigen::Index previous, Eigen::Index now) {
                                 std::to_string(now));
 }
 
+// Joins a thread when the scope it was started in ends, however that ends (before anything the
+// thread reads goes away).
+struct JoinOnExit {
+  std::thread& t;
+  ~JoinOnExit() {
+    if (t.joinable()) t.join();
+  }
+};
+
 }  // namespace
 
 Body::Body(const Body& previous, MatrixX3d V) : mesh_{std::move(V), previous.mesh_.F} {
@@ -76,12 +85,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
       trees->refit(mesh_);
       treeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
-  struct Join {
-    std::thread& t;
-    ~Join() {
-      if (t.joinable()) t.join();
-    }
-  } join{refit};
+  JoinOnExit join{refit};
   std::call_once(adjacency_once_, [&] {
     edges_ = std::move(edges);
     face_edges_ = std::move(faceEdges);
@@ -192,12 +196,7 @@ const BodyBVH& Body::bvh() const {
     // The detection's box tree (counted with the BVH) on a thread of its own while FCL builds its
     // tree here: both only read the mesh (on body_hm08, 26,756 faces: 30-38 ms -> about 20).
     std::thread faceTree([&b, this] { b->faceTree(mesh_); });
-    struct Join {
-      std::thread& t;
-      ~Join() {
-        if (t.joinable()) t.join();
-      }
-    } join{faceTree};
+    JoinOnExit join{faceTree};
     b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
     faceTree.join();
     bvh_ = std::move(b);

@@ -20,17 +20,32 @@ constexpr int kParallelZones = 4;
 // Fewer nearest-point queries than this: one thread answers them.
 constexpr int kNearestPerThread = 64;
 
+// |l / l0 - 1| of edge e into `strain`; false for an edge of zero input length.
+bool edgeStrain(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E, Eigen::Index e, double& strain) {
+  const double l0 = (input.V.row(E(e, 0)) - input.V.row(E(e, 1))).norm();
+  if (!(l0 > 0)) return false;
+  strain = std::abs((garment.V.row(E(e, 0)) - garment.V.row(E(e, 1))).norm() / l0 - 1);
+  return true;
+}
+
 // Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
 std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
   std::vector<double> s;
   s.reserve(static_cast<std::size_t>(E.rows()));
-  for (Eigen::Index e = 0; e < E.rows(); ++e) {
-    const double l0 = (input.V.row(E(e, 0)) - input.V.row(E(e, 1))).norm();
-    if (l0 > 0) s.push_back(std::abs((garment.V.row(E(e, 0)) - garment.V.row(E(e, 1))).norm() / l0 - 1));
-  }
+  double strain = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e)
+    if (edgeStrain(input, garment, E, e, strain)) s.push_back(strain);
   if (s.empty()) s.push_back(0);
   std::sort(s.begin(), s.end());
   return s;
+}
+
+// The largest of edgeStrains, without the sort.
+double maxEdgeStrain(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
+  double worst = 0, strain = 0;
+  for (Eigen::Index e = 0; e < E.rows(); ++e)
+    if (edgeStrain(input, garment, E, e, strain)) worst = std::max(worst, strain);
+  return worst;
 }
 
 }  // namespace
@@ -632,12 +647,12 @@ bool ResolverRun::relaxShape() {
   }
   if (params_.body_uncertainty > 0 && relaxation.face_clearance == 0) relaxation.face_clearance = d_;
   const double t0 = clock_.now();
-  rep_.max_edge_strain_before_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
+  rep_.max_edge_strain_before_relaxation = maxEdgeStrain(input_, garment_, topo_.edges);
   if (warm_ && params_.warm_local_relaxation) {
     relaxation.local = true;
     relaxation.seeds = movedByRounds();
     rep_.relaxation = resolver_run::relaxShape(body_, input_, garment_, topo_, graph_, d_, relaxation, &candidates_);
-    rep_.max_edge_strain_after_local_relaxation = edgeStrains(input_, garment_, topo_.edges).back();
+    rep_.max_edge_strain_after_local_relaxation = maxEdgeStrain(input_, garment_, topo_.edges);
     rep_.relaxation_widened = rep_.max_edge_strain_after_local_relaxation > params_.warm_full_relaxation_strain;
     relaxation.local = false;
   }
