@@ -8,6 +8,7 @@
 // default spacing on both bodies, ours next to GarmentCode's (DATA_DIR/garmentcode/*.json, placed
 // by the placement rule), median of 3 runs.
 #include "virtual_tryon/core/drape/pattern_placement.h"
+#include "virtual_tryon/heap_settings.h"
 #include "virtual_tryon/core/io/pattern_garmentcode.h"
 #include "virtual_tryon/core/io/pattern_yaml.h"
 #include "virtual_tryon/core/body/body.h"
@@ -135,6 +136,7 @@ void proceduralTable(const std::string& dir) {
 }
 
 int main(int argc, char** argv) {
+  virtual_tryon::keepHeapForFrames();
   const std::string data = argc > 1 ? argv[1] : (std::getenv("VT_DATA") ? std::getenv("VT_DATA") : "../shared/data");
   const std::string patterns = argc > 2 ? argv[2] : "config/patterns/hm08";
   const std::string proceduralPatterns = argc > 3 ? argv[3] : "config/patterns/procedural";

@@ -8,6 +8,7 @@
 // calls, the body's BVH built once before). Skips (exit 0) when the data is absent; exit 1 when
 // our method leaves a crossing or an inside vertex.
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/heap_settings.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/resolve/penetration_resolver.h"
 #include "virtual_tryon/testing/push_out_baseline.h"
@@ -55,6 +56,7 @@ std::vector<Method> methods() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  virtual_tryon::keepHeapForFrames();
   std::string dir = argc > 1 ? argv[1] : (std::getenv("VT_DATA") ? std::getenv("VT_DATA") : "../shared/data");
   const int runs = argc > 2 ? std::max(1, std::atoi(argv[2])) : 15;
   vt::TriMesh bodyMesh;

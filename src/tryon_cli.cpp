@@ -1,6 +1,7 @@
 // `tryon`: the core without ROS, for batch use. See `tryon --help`.
 // Exit codes: 0 converged / clean, 3 not converged / not clean, 2 bad input or usage.
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/heap_settings.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/drape/frames_ahead.h"
@@ -985,6 +986,7 @@ void reexecUnderXvfb(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  virtual_tryon::keepHeapForFrames();
   try {
     if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
       std::cout << usage();

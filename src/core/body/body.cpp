@@ -10,23 +10,65 @@
 
 namespace virtual_tryon {
 
+namespace {
+
+// Each non-zero row of N scaled to unit length (zero rows stay zero).
+void normalizeRows(MatrixX3d& N) {
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const double len = N.row(i).norm();
+    if (len > 0) N.row(i) /= len;
+  }
+}
+
+}  // namespace
+
 Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
   topology_ = edgeTopology(mesh_);
-  mean_edge_length_ = virtual_tryon::meanEdgeLength(mesh_);
   signed_volume_ = virtual_tryon::signedVolume(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
 }
 
-// A frame's geometry from its vertices and the edge list it shares with the frame before (the
-// same list, in the same order, as meanEdgeLength's uniqueEdges gives: the same mean).
+// A frame's geometry from its vertices and the lists it shares with the frame before: face, edge
+// and vertex normals and the signed volume in one pass over the faces, then the bounds.
+// The sums are those of faceNormals, vertexNormals, signedVolume and computeEdgeNormals, taken in
+// the same order, so the values are those to the bit; the matrices are written in place (a stream
+// of frames hands over the buffers of the frame before: nothing of the body's size is allocated).
 void Body::computeFrameGeometry() {
-  face_normals_ = virtual_tryon::faceNormals(mesh_);
-  signed_volume_ = virtual_tryon::signedVolume(mesh_);
+  const MatrixX3d& V = mesh_.V;
+  const MatrixX3i& F = mesh_.F;
+  face_normals_.resize(F.rows(), 3);
+  vertex_normals_.setZero(V.rows(), 3);
+  edge_normals_.setZero(edges_.rows(), 3);
+  double volume = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    volume += a.dot(b.cross(c));
+    const Eigen::Vector3d n = (b - a).cross(c - a);  // |n| = 2 * area
+    const double len = n.norm();
+    const Eigen::Vector3d unit = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    face_normals_.row(f) = unit;
+    for (int k = 0; k < 3; ++k) {
+      vertex_normals_.row(F(f, k)) += n;
+      edge_normals_.row(face_edges_(f, k)) += unit;
+    }
+  }
+  signed_volume_ = volume / 6.0;
+  normalizeRows(vertex_normals_);
+  normalizeRows(edge_normals_);
   boundingBox(mesh_, box_min_, box_max_);
-  double sum = 0;
-  for (Eigen::Index e = 0; e < edges_.rows(); ++e) sum += (mesh_.V.row(edges_(e, 0)) - mesh_.V.row(edges_(e, 1))).norm();
-  mean_edge_length_ = edges_.rows() ? sum / static_cast<double>(edges_.rows()) : 0.0;
+}
+
+// Over the edge list (the same list, in the same order, as meanEdgeLength's uniqueEdges gives: the
+// same mean), on the first call.
+double Body::meanEdgeLength() const {
+  std::call_once(mean_edge_once_, [this] {
+    const MatrixX2i& E = edges();
+    double sum = 0;
+    for (Eigen::Index e = 0; e < E.rows(); ++e) sum += (mesh_.V.row(E(e, 0)) - mesh_.V.row(E(e, 1))).norm();
+    mean_edge_length_ = E.rows() ? sum / static_cast<double>(E.rows()) : 0.0;
+  });
+  return mean_edge_length_;
 }
 
 namespace {
@@ -65,6 +107,10 @@ Body::Body(Body&& previous, MatrixX3d V) {
   mesh_.V = std::move(V);
   topology_ = std::move(previous.topology_);
   edge_first_face_ = std::move(previous.edge_first_face_);
+  // previous's normals as this frame's buffers (the same sizes: written over in place)
+  face_normals_ = std::move(previous.face_normals_);
+  edge_normals_ = std::move(previous.edge_normals_);
+  vertex_normals_ = std::move(previous.vertex_normals_);
   adoptFrame(std::move(previous.edges_), std::move(previous.face_edges_), std::move(previous.vertex_face_start_),
              std::move(previous.vertex_faces_), previous.bvh_built_ ? std::move(previous.bvh_) : nullptr);
   previous.bvh_built_ = false;
@@ -89,16 +135,14 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
   std::call_once(adjacency_once_, [&] {
     edges_ = std::move(edges);
     face_edges_ = std::move(faceEdges);
-    computeFrameGeometry();
-    computeEdgeNormals();
     if (edge_first_face_.size() != static_cast<std::size_t>(edges_.rows())) computeEdgeFirstFaces();
     adjacency_built_ = true;
   });
   std::call_once(vertex_adjacency_once_, [&] {
     vertex_face_start_ = std::move(vertexFaceStart);
     vertex_faces_ = std::move(vertexFaces);
-    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
   });
+  computeFrameGeometry();  // the normals of both lists' blocks above
   if (!trees) return;
   refit.join();
   std::call_once(bvh_once_, [&] {

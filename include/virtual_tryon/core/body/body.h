@@ -23,10 +23,9 @@ class Body {
   // A new frame of `previous`'s body (a body that moves): the same faces, new vertex positions V
   // (#V by 3, as many as previous has; else std::invalid_argument). What depends on the faces alone
   // is reused (edge topology, the edge list, the faces round each vertex: built on previous first if
-  // it had not built them); normals, bounds, volume
-  // and mean edge length are computed for V; previous's face trees, when built, are copied and
-  // refitted to V (same tree, new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried
-  // over (the body moved).
+  // it had not built them); normals, bounds and volume are computed for V (the mean edge length
+  // when asked for); previous's face trees, when built, are copied and refitted to V (same tree,
+  // new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried over (the body moved).
   Body(const Body& previous, MatrixX3d V);
   // The same, taking previous's lists and trees instead of copying them (previous is left empty:
   // only to be destroyed or assigned). What a stream of frames uses.
@@ -56,7 +55,7 @@ class Body {
   const MatrixX3d& vertexNormals() const { buildVertexAdjacency(); return vertex_normals_; }
   const EdgeTopology& topology() const { return topology_; }
   bool closed() const { return topology_.closed(); }
-  double meanEdgeLength() const { return mean_edge_length_; }
+  double meanEdgeLength() const;  // over edges(), computed on the first call (thread-safe)
   // Signed enclosed volume (mesh.h signedVolume), m^3: negative for a closed body wound inside out.
   double signedVolume() const { return signed_volume_; }
   const Eigen::Vector3d& boxMin() const { return box_min_; }  // axis-aligned bounds
@@ -95,7 +94,8 @@ class Body {
   mutable std::vector<int> vertex_face_start_, vertex_faces_;
   mutable MatrixX3d vertex_normals_;
   EdgeTopology topology_;
-  double mean_edge_length_ = 0;
+  mutable std::once_flag mean_edge_once_;
+  mutable double mean_edge_length_ = 0;
   double signed_volume_ = 0;
   Eigen::Vector3d box_min_{0, 0, 0}, box_max_{0, 0, 0};
 
