@@ -22,19 +22,18 @@ void FaceBoxTree::faceBox(const MatrixX3d& V, const MatrixX3i& F, int f) {
     lo = lo.cwiseMin(V.row(F(f, k)).transpose());
     hi = hi.cwiseMax(V.row(F(f, k)).transpose());
   }
-  face_lo_[static_cast<std::size_t>(f)] = lo;
-  face_hi_[static_cast<std::size_t>(f)] = hi;
+  box_[static_cast<std::size_t>(f)].lo = lo;
+  box_[static_cast<std::size_t>(f)].hi = hi;
 }
 
 FaceBoxTree::FaceBoxTree(const TriMesh& mesh) {
   const int nf = static_cast<int>(mesh.F.rows());
   if (nf == 0) return;
-  face_lo_.resize(static_cast<std::size_t>(nf));
-  face_hi_.resize(static_cast<std::size_t>(nf));
+  box_.resize(static_cast<std::size_t>(nf));
   std::vector<Eigen::Vector3d> centre(static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
     faceBox(mesh.V, mesh.F, f);
-    centre[static_cast<std::size_t>(f)] = 0.5 * (face_lo_[f] + face_hi_[f]);
+    centre[static_cast<std::size_t>(f)] = 0.5 * (box_[f].lo + box_[f].hi);
   }
   order_.resize(static_cast<std::size_t>(nf));
   std::iota(order_.begin(), order_.end(), 0);
@@ -45,12 +44,12 @@ FaceBoxTree::FaceBoxTree(const TriMesh& mesh) {
 int FaceBoxTree::build(const std::vector<Eigen::Vector3d>& centre, int first, int count) {
   const int id = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
-  Eigen::Vector3d lo = face_lo_[order_[first]], hi = face_hi_[order_[first]];
+  Eigen::Vector3d lo = box_[order_[first]].lo, hi = box_[order_[first]].hi;
   Eigen::Vector3d clo = centre[order_[first]], chi = clo;
   for (int i = first + 1; i < first + count; ++i) {
     const int f = order_[static_cast<std::size_t>(i)];
-    lo = lo.cwiseMin(face_lo_[f]);
-    hi = hi.cwiseMax(face_hi_[f]);
+    lo = lo.cwiseMin(box_[f].lo);
+    hi = hi.cwiseMax(box_[f].hi);
     clo = clo.cwiseMin(centre[f]);
     chi = chi.cwiseMax(centre[f]);
   }
@@ -83,11 +82,11 @@ void FaceBoxTree::refit(const MatrixX3d& V, const MatrixX3i& F) {
       n.hi = nodes_[n.left].hi.cwiseMax(nodes_[n.right].hi);
       continue;
     }
-    n.lo = face_lo_[order_[n.first]];
-    n.hi = face_hi_[order_[n.first]];
+    n.lo = box_[order_[n.first]].lo;
+    n.hi = box_[order_[n.first]].hi;
     for (int i = n.first + 1; i < n.first + n.count; ++i) {
-      n.lo = n.lo.cwiseMin(face_lo_[order_[i]]);
-      n.hi = n.hi.cwiseMax(face_hi_[order_[i]]);
+      n.lo = n.lo.cwiseMin(box_[order_[i]].lo);
+      n.hi = n.hi.cwiseMax(box_[order_[i]].hi);
     }
   }
 }

@@ -28,9 +28,12 @@ class FaceBoxTree {
   void refit(const MatrixX3d& V, const MatrixX3i& F);
   bool empty() const { return nodes_.empty(); }
 
-  // Face f's bounding box as the tree holds it (as built or last refitted).
-  const Eigen::Vector3d& faceLo(int f) const { return face_lo_[static_cast<std::size_t>(f)]; }
-  const Eigen::Vector3d& faceHi(int f) const { return face_hi_[static_cast<std::size_t>(f)]; }
+  // Whether face f's bounding box, as the tree holds it (as built or last refitted), overlaps the
+  // closed box [lo, hi].
+  bool faceOverlaps(int f, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    const Box& b = box_[static_cast<std::size_t>(f)];
+    return (b.lo.array() <= hi.array()).all() && (lo.array() <= b.hi.array()).all();
+  }
 
  private:
   struct Node {
@@ -42,7 +45,10 @@ class FaceBoxTree {
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
   std::vector<Node> nodes_;
   std::vector<int> order_;
-  std::vector<Eigen::Vector3d> face_lo_, face_hi_;
+  struct Box {
+    Eigen::Vector3d lo, hi;
+  };
+  std::vector<Box> box_;  // per face, both corners side by side (one memory fetch per test)
 };
 
 template <class Visit>
@@ -61,7 +67,7 @@ void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
     }
     for (int i = n.first; i < n.first + n.count; ++i) {
       const int f = order_[static_cast<std::size_t>(i)];
-      if ((face_lo_[f].array() <= hi.array()).all() && (lo.array() <= face_hi_[f].array()).all()) visit(f);
+      if (faceOverlaps(f, lo, hi)) visit(f);
     }
   }
 }

@@ -159,7 +159,7 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
     // The same pairs as the tree gives for the face's own box: every candidate whose box (the
     // tree's own, read from two packed arrays) overlaps it.
     for (int bf : cache->faces[c])
-      if ((tree.faceLo(bf).array() <= hi.array()).all() && (lo.array() <= tree.faceHi(bf).array()).all()) test(bf);
+      if (tree.faceOverlaps(bf, lo, hi)) test(bf);
   }
 }
 
