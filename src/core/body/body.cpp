@@ -10,18 +10,6 @@
 
 namespace virtual_tryon {
 
-namespace {
-
-// Each non-zero row of N scaled to unit length (zero rows stay zero).
-void normalizeRows(MatrixX3d& N) {
-  for (Eigen::Index i = 0; i < N.rows(); ++i) {
-    const double len = N.row(i).norm();
-    if (len > 0) N.row(i) /= len;
-  }
-}
-
-}  // namespace
-
 Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
   topology_ = edgeTopology(mesh_);
@@ -29,33 +17,23 @@ Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   boundingBox(mesh_, box_min_, box_max_);
 }
 
-// A frame's geometry from its vertices and the lists it shares with the frame before: face, edge
-// and vertex normals and the signed volume in one pass over the faces, then the bounds.
-// The sums are those of faceNormals, vertexNormals, signedVolume and computeEdgeNormals, taken in
-// the same order, so the values are those to the bit; the matrices are written in place (a stream
-// of frames hands over the buffers of the frame before: nothing of the body's size is allocated).
+// A frame's geometry from its vertices: face normals and the signed volume in one pass over the
+// faces (the sums of faceNormals and signedVolume, in the same order: the same values to the bit),
+// the face normals written in place (a stream of frames hands over the buffer of the frame before),
+// then the bounds. Edge and vertex normals are computed when asked for (edgeNormal, vertexNormal).
 void Body::computeFrameGeometry() {
   const MatrixX3d& V = mesh_.V;
   const MatrixX3i& F = mesh_.F;
   face_normals_.resize(F.rows(), 3);
-  vertex_normals_.setZero(V.rows(), 3);
-  edge_normals_.setZero(edges_.rows(), 3);
   double volume = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     volume += a.dot(b.cross(c));
-    const Eigen::Vector3d n = (b - a).cross(c - a);  // |n| = 2 * area
+    const Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
-    const Eigen::Vector3d unit = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-    face_normals_.row(f) = unit;
-    for (int k = 0; k < 3; ++k) {
-      vertex_normals_.row(F(f, k)) += n;
-      edge_normals_.row(face_edges_(f, k)) += unit;
-    }
+    face_normals_.row(f) = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
   }
   signed_volume_ = volume / 6.0;
-  normalizeRows(vertex_normals_);
-  normalizeRows(edge_normals_);
   boundingBox(mesh_, box_min_, box_max_);
 }
 
@@ -107,10 +85,7 @@ Body::Body(Body&& previous, MatrixX3d V) {
   mesh_.V = std::move(V);
   topology_ = std::move(previous.topology_);
   edge_first_face_ = std::move(previous.edge_first_face_);
-  // previous's normals as this frame's buffers (the same sizes: written over in place)
-  face_normals_ = std::move(previous.face_normals_);
-  edge_normals_ = std::move(previous.edge_normals_);
-  vertex_normals_ = std::move(previous.vertex_normals_);
+  face_normals_ = std::move(previous.face_normals_);  // a buffer of the same size, written over
   adoptFrame(std::move(previous.edges_), std::move(previous.face_edges_), std::move(previous.vertex_face_start_),
              std::move(previous.vertex_faces_), previous.bvh_built_ ? std::move(previous.bvh_) : nullptr);
   previous.bvh_built_ = false;
@@ -142,7 +117,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
     vertex_face_start_ = std::move(vertexFaceStart);
     vertex_faces_ = std::move(vertexFaces);
   });
-  computeFrameGeometry();  // the normals of both lists' blocks above
+  computeFrameGeometry();
   if (!trees) return;
   refit.join();
   std::call_once(bvh_once_, [&] {
@@ -153,14 +128,55 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
   });
 }
 
-void Body::computeEdgeNormals() const {
-  edge_normals_ = MatrixX3d::Zero(edges_.rows(), 3);
-  for (Eigen::Index f = 0; f < face_edges_.rows(); ++f)
-    for (int k = 0; k < 3; ++k) edge_normals_.row(face_edges_(f, k)) += face_normals_.row(f);
-  for (Eigen::Index e = 0; e < edge_normals_.rows(); ++e) {
-    const double len = edge_normals_.row(e).norm();
-    if (len > 0) edge_normals_.row(e) /= len;
+namespace {
+
+Eigen::Vector3d unitOrZero(const Eigen::Vector3d& s) {
+  const double len = s.norm();
+  return len > 0 ? Eigen::Vector3d(s / len) : s;
+}
+
+}  // namespace
+
+// The faces round the edge's first end that have its second end too are the faces incident to
+// it, in increasing order (facesRoundVertices): the sum a pass over the faces would take.
+Eigen::Vector3d Body::edgeNormal(int e) const {
+  buildVertexAdjacency();
+  const MatrixX2i& E = edges();
+  const int a = E(e, 0), b = E(e, 1);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = vertex_face_start_[a]; i < vertex_face_start_[a + 1]; ++i) {
+    const int f = vertex_faces_[static_cast<std::size_t>(i)];
+    if (mesh_.F(f, 0) == b || mesh_.F(f, 1) == b || mesh_.F(f, 2) == b) sum += face_normals_.row(f).transpose();
   }
+  return unitOrZero(sum);
+}
+
+Eigen::Vector3d Body::vertexNormal(int v) const {
+  buildVertexAdjacency();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = vertex_face_start_[v]; i < vertex_face_start_[v + 1]; ++i) {
+    const int f = vertex_faces_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d a = mesh_.V.row(mesh_.F(f, 0));
+    sum += (Eigen::Vector3d(mesh_.V.row(mesh_.F(f, 1))) - a).cross(Eigen::Vector3d(mesh_.V.row(mesh_.F(f, 2))) - a);
+  }
+  return unitOrZero(sum);
+}
+
+const MatrixX3d& Body::edgeNormals() const {
+  std::call_once(edge_normals_once_, [this] {
+    const Eigen::Index n = edges().rows();
+    edge_normals_.resize(n, 3);
+    for (Eigen::Index e = 0; e < n; ++e) edge_normals_.row(e) = edgeNormal(static_cast<int>(e)).transpose();
+  });
+  return edge_normals_;
+}
+
+const MatrixX3d& Body::vertexNormals() const {
+  std::call_once(vertex_normals_once_, [this] {
+    vertex_normals_.resize(mesh_.V.rows(), 3);
+    for (Eigen::Index v = 0; v < mesh_.V.rows(); ++v) vertex_normals_.row(v) = vertexNormal(static_cast<int>(v)).transpose();
+  });
+  return vertex_normals_;
 }
 
 void Body::computeEdgeFirstFaces() const {
@@ -175,7 +191,6 @@ void Body::computeEdgeFirstFaces() const {
 void Body::buildAdjacency() const {
   std::call_once(adjacency_once_, [this] {
     edges_ = uniqueEdges(mesh_, &face_edges_);
-    computeEdgeNormals();
     computeEdgeFirstFaces();
     adjacency_built_ = true;
   });
@@ -227,7 +242,6 @@ void BodyBVH::refit(const TriMesh& mesh) {
 void Body::buildVertexAdjacency() const {
   std::call_once(vertex_adjacency_once_, [this] {
     facesRoundVertices(mesh_.F, static_cast<int>(mesh_.V.rows()), vertex_face_start_, vertex_faces_);
-    vertex_normals_ = virtual_tryon::vertexNormals(mesh_);
   });
 }
 

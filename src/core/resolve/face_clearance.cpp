@@ -18,7 +18,6 @@ constexpr double kMinFaceTilt = 0.2;
 
 void faceClearances(const Body& body, const TriMesh& garment, int f, double c, std::vector<FaceClearance>& out) {
   const TriMesh& B = body.mesh();
-  const MatrixX3d& N = body.vertexNormals();
   const Eigen::Vector3d x0 = garment.V.row(garment.F(f, 0)).transpose(), x1 = garment.V.row(garment.F(f, 1)).transpose(),
                         x2 = garment.V.row(garment.F(f, 2)).transpose();
   const Eigen::Vector3d e1 = x1 - x0, e2 = x2 - x0, fn = e1.cross(e2);
@@ -32,7 +31,7 @@ void faceClearances(const Body& body, const TriMesh& garment, int f, double c, s
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
   for (int y : corners) {
-    const Eigen::Vector3d n = N.row(y).transpose(), py = B.V.row(y).transpose();
+    const Eigen::Vector3d n = body.vertexNormal(y), py = B.V.row(y).transpose();
     const double denom = fn.dot(n);
     if (std::abs(denom) < kMinFaceTilt * std::sqrt(fn2)) continue;
     const double t = fn.dot(x0 - py) / denom;  // py + t n lies in the face's plane

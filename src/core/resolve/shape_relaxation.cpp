@@ -465,7 +465,7 @@ class ShapeRelaxation {
     const MatrixX3d& BV = body_.mesh().V;
     for (const auto& c : found.body_edges) {
       if (!contact_keys_.insert(contactKey(1, c.edge, c.face)).second) continue;
-      const Eigen::Vector3d n = body_.edgeNormals().row(c.edge).transpose();
+      const Eigen::Vector3d n = body_.edgeNormal(c.edge);
       if (n.squaredNorm() == 0) continue;
       const double top = std::max(n.dot(BV.row(body_.edges()(c.edge, 0)).transpose()),
                                   n.dot(BV.row(body_.edges()(c.edge, 1)).transpose()));

@@ -31,7 +31,7 @@ std::vector<Stencil> buildStencils(const Body& body, const TriMesh& garment,
   // Face stencils from body edges crossing garment faces.
   const MatrixX3d& BV = body.mesh().V;
   for (const EdgeFaceCrossing& c : crossings.body_edges) {
-    const Eigen::Vector3d n = body.edgeNormals().row(c.edge).transpose();
+    const Eigen::Vector3d n = body.edgeNormal(c.edge);
     if (n.squaredNorm() == 0) continue;
     const Eigen::Vector3d y0 = BV.row(body.edges()(c.edge, 0)).transpose();
     const Eigen::Vector3d y1 = BV.row(body.edges()(c.edge, 1)).transpose();

@@ -23,8 +23,8 @@ class Body {
   // A new frame of `previous`'s body (a body that moves): the same faces, new vertex positions V
   // (#V by 3, as many as previous has; else std::invalid_argument). What depends on the faces alone
   // is reused (edge topology, the edge list, the faces round each vertex: built on previous first if
-  // it had not built them); normals, bounds and volume are computed for V (the mean edge length
-  // when asked for); previous's face trees, when built, are copied and refitted to V (same tree,
+  // it had not built them); face normals, bounds and volume are computed for V (edge and vertex
+  // normals and the mean edge length when asked for); previous's face trees, when built, are copied and refitted to V (same tree,
   // new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried over (the body moved).
   Body(const Body& previous, MatrixX3d V);
   // The same, taking previous's lists and trees instead of copying them (previous is left empty:
@@ -40,19 +40,24 @@ class Body {
   // drape that only needs the depth maps never builds it.
   const MatrixX2i& edges() const { buildAdjacency(); return edges_; }             // #E by 2 unique edges
   const MatrixX3i& faceEdges() const { buildAdjacency(); return face_edges_; }    // #F by 3 into edges()
-  // #E by 3: unit mean of the normals of the faces incident to each edge (outward direction at a
-  // ridge or a valley).
-  const MatrixX3d& edgeNormals() const { buildAdjacency(); return edge_normals_; }
+  // Unit mean of the normals of the faces incident to edge e (outward direction at a ridge or a
+  // valley), computed on the call; edgeNormals(): all of them (#E by 3), computed on the first call
+  // (thread-safe). A moving body asks for the few edges its crossings need.
+  Eigen::Vector3d edgeNormal(int e) const;
+  const MatrixX3d& edgeNormals() const;
   // Per edge: the lowest-numbered face that has it (a detection tests each edge from that face
   // alone, where both of its faces are visited).
   const std::vector<int>& edgeFirstFaces() const { buildAdjacency(); return edge_first_face_; }
   bool adjacencyBuilt() const { return adjacency_built_; }
   // The faces round each vertex (vertex v: vertexFaces()[vertexFaceStart()[v] ..
-  // vertexFaceStart()[v + 1]), facesRoundVertices of mesh.h) and #V by 3 unit vertex normals
-  // (mesh.h vertexNormals), built together on the first call to either (thread-safe), then reused.
+  // vertexFaceStart()[v + 1]), facesRoundVertices of mesh.h), built on the first call to either
+  // (thread-safe), then reused.
   const std::vector<int>& vertexFaceStart() const { buildVertexAdjacency(); return vertex_face_start_; }
   const std::vector<int>& vertexFaces() const { buildVertexAdjacency(); return vertex_faces_; }
-  const MatrixX3d& vertexNormals() const { buildVertexAdjacency(); return vertex_normals_; }
+  // Vertex v's unit normal (area-weighted, as mesh.h vertexNormals), computed on the call;
+  // vertexNormals(): all of them (#V by 3), computed on the first call (thread-safe).
+  Eigen::Vector3d vertexNormal(int v) const;
+  const MatrixX3d& vertexNormals() const;
   const EdgeTopology& topology() const { return topology_; }
   bool closed() const { return topology_.closed(); }
   double meanEdgeLength() const;  // over edges(), computed on the first call (thread-safe)
@@ -76,7 +81,6 @@ class Body {
  private:
   void buildAdjacency() const;
   void buildVertexAdjacency() const;
-  void computeEdgeNormals() const;
   void computeEdgeFirstFaces() const;
   void computeFrameGeometry();
   void adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
@@ -88,10 +92,12 @@ class Body {
   mutable std::atomic<bool> adjacency_built_{false};
   mutable MatrixX2i edges_;
   mutable MatrixX3i face_edges_;
+  mutable std::once_flag edge_normals_once_;
   mutable MatrixX3d edge_normals_;
   mutable std::vector<int> edge_first_face_;
   mutable std::once_flag vertex_adjacency_once_;
   mutable std::vector<int> vertex_face_start_, vertex_faces_;
+  mutable std::once_flag vertex_normals_once_;
   mutable MatrixX3d vertex_normals_;
   EdgeTopology topology_;
   mutable std::once_flag mean_edge_once_;
