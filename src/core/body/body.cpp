@@ -93,9 +93,10 @@ Body::Body(Body&& previous, MatrixX3d V) {
 }
 
 // The shared part of both frame constructors: the frame's own geometry over the lists of the
-// frame before, and its trees (when it had them) refitted to this frame's vertices. The trees are
-// refitted on a thread of their own while this one computes the normals (both only read the
-// vertices and faces; the thread is joined before the trees are used, however this returns).
+// frame before, and its trees (when it had them) refitted to this frame's vertices. FCL's tree is
+// refitted on a thread of their own while this one computes the face normals and then refits the
+// detection's box tree (about equal halves; both only read the vertices and faces, each writes its
+// own tree; the thread is joined before the trees are used, however this returns).
 void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
                       std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees) {
   double treeSeconds = 0;
@@ -103,7 +104,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
   if (trees)
     refit = std::thread([this, &trees, &treeSeconds] {
       const auto t0 = std::chrono::steady_clock::now();
-      trees->refit(mesh_);
+      trees->refitFcl(mesh_);
       treeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     });
   JoinOnExit join{refit};
@@ -119,7 +120,11 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
   });
   computeFrameGeometry();
   if (!trees) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  trees->refitFaceTree(mesh_);  // FCL's tree is the other thread's
+  const double boxSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   refit.join();
+  treeSeconds += boxSeconds;
   std::call_once(bvh_once_, [&] {
     bvh_ = std::move(trees);
     bvh_seconds_ = treeSeconds;
@@ -235,7 +240,13 @@ void refitFclTree(FclModel& model, const MatrixX3d& V, const MatrixX3i& F) {
 }  // namespace
 
 void BodyBVH::refit(const TriMesh& mesh) {
-  refitFclTree(*model, mesh.V, mesh.F);
+  refitFcl(mesh);
+  refitFaceTree(mesh);
+}
+
+void BodyBVH::refitFcl(const TriMesh& mesh) { refitFclTree(*model, mesh.V, mesh.F); }
+
+void BodyBVH::refitFaceTree(const TriMesh& mesh) {
   if (tree_) tree_->refit(mesh.V, mesh.F);
 }
 
