@@ -12,20 +12,23 @@ namespace vt = virtual_tryon;
 TEST(Body, BuildsNothingHeavyUntilAsked) {
   const vt::Body body(vt::makeSphere(0.3));
   EXPECT_FALSE(body.bvhBuilt());
-  EXPECT_FALSE(body.adjacencyBuilt());
   EXPECT_EQ(body.depthMapRenders(), 0);
-  EXPECT_TRUE(body.closed());  // the topology summary is kept from construction
+  EXPECT_TRUE(body.closed());  // the topology summary is kept from construction,
+  EXPECT_TRUE(body.adjacencyBuilt());  // and the edge list it was counted over
 }
 
-TEST(Body, AdjacencyIsBuiltOnceOnFirstUseFromManyThreads) {
+TEST(Body, EdgeNormalsAreBuiltOnceOnFirstUseFromManyThreads) {
   const vt::TriMesh sphere = vt::makeSphere(0.3);
   const vt::Body body(sphere);
-  std::vector<const vt::MatrixX2i*> seen(4, nullptr);
+  std::vector<const vt::MatrixX3d*> seen(4, nullptr);
   std::vector<std::thread> threads;
-  for (int t = 0; t < 4; ++t) threads.emplace_back([&, t] { seen[t] = &body.edges(); });
+  for (int t = 0; t < 4; ++t) threads.emplace_back([&, t] { seen[t] = &body.edgeNormals(); });
   for (auto& th : threads) th.join();
-  EXPECT_TRUE(body.adjacencyBuilt());
   for (const auto* p : seen) EXPECT_EQ(p, seen[0]);
+  // Each row as edgeNormal(e) computes it, and the vertex normals as mesh.h's.
+  for (Eigen::Index e = 0; e < body.edges().rows(); ++e)
+    EXPECT_EQ(body.edgeNormals().row(e), body.edgeNormal(static_cast<int>(e)).transpose());
+  EXPECT_EQ(body.vertexNormals(), vt::vertexNormals(sphere));
   EXPECT_EQ(body.edges(), vt::uniqueEdges(sphere));
   EXPECT_EQ(body.faceEdges().rows(), sphere.numFaces());
   EXPECT_EQ(body.edgeNormals().rows(), body.edges().rows());

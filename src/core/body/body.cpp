@@ -12,7 +12,8 @@ namespace virtual_tryon {
 
 Body::Body(TriMesh mesh) : mesh_(std::move(mesh)) {
   face_normals_ = virtual_tryon::faceNormals(mesh_);
-  topology_ = edgeTopology(mesh_);
+  buildAdjacency();  // the edge list, which the topology is counted over
+  topology_ = edgeTopology(face_edges_, edges_.rows());
   signed_volume_ = virtual_tryon::signedVolume(mesh_);
   boundingBox(mesh_, box_min_, box_max_);
 }
@@ -266,7 +267,7 @@ const BodyBVH& Body::bvh() const {
     // tree here: both only read the mesh (on body_hm08, 26,756 faces: 30-38 ms -> about 20).
     std::thread faceTree([&b, this] { b->faceTree(mesh_); });
     JoinOnExit join{faceTree};
-    b->model = buildFclModel<FclModel>(mesh_.V, mesh_.F, nullptr);
+    b->model = buildFclModel(mesh_.V, mesh_.F, nullptr);
     faceTree.join();
     bvh_ = std::move(b);
     bvh_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -42,10 +42,9 @@ class BodyBVH {
 // A BVH over the triangles F (all of them, or only `faces`) of the vertices V.
 // Triangle i of the model is F(i) or F(faces[i]). With `faces`, only the vertices those faces use
 // go into the model (renumbered), so a BVH over a few faces costs little whatever #V.
-template <typename Model>
-std::shared_ptr<Model> buildFclModel(const MatrixX3d& V, const MatrixX3i& F,
-                                     const std::vector<int>* faces) {
-  auto model = std::make_shared<Model>();
+inline std::shared_ptr<FclModel> buildFclModel(const MatrixX3d& V, const MatrixX3i& F,
+                                               const std::vector<int>* faces) {
+  auto model = std::make_shared<FclModel>();
   std::vector<fcl::Vector3d> pts;
   std::vector<fcl::Triangle> tris;
   if (faces) {
@@ -68,6 +67,9 @@ std::shared_ptr<Model> buildFclModel(const MatrixX3d& V, const MatrixX3i& F,
     tris.reserve(static_cast<std::size_t>(F.rows()));
     for (Eigen::Index f = 0; f < F.rows(); ++f) tris.emplace_back(F(f, 0), F(f, 1), F(f, 2));
   }
+  // Split at the middle of each node's box (FCL's default takes the mean of its triangles' centres,
+  // a pass over them per node: on body_hm08's 26,756 faces about a quarter of the build).
+  model->bv_splitter.reset(new fcl::detail::BVSplitter<fcl::AABBd>(fcl::detail::SPLIT_METHOD_BV_CENTER));
   model->beginModel(static_cast<int>(tris.size()), static_cast<int>(pts.size()));
   model->addSubModel(pts, tris);
   model->endModel();

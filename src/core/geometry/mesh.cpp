@@ -341,7 +341,11 @@ double meanEdgeLength(const TriMesh& mesh) {
 EdgeTopology edgeTopology(const TriMesh& mesh) {
   MatrixX3i FE;
   const MatrixX2i E = uniqueEdges(mesh, &FE);
-  std::vector<int> count(static_cast<std::size_t>(E.rows()), 0);
+  return edgeTopology(FE, E.rows());
+}
+
+EdgeTopology edgeTopology(const MatrixX3i& FE, Eigen::Index edges) {
+  std::vector<int> count(static_cast<std::size_t>(edges), 0);
   for (Eigen::Index f = 0; f < FE.rows(); ++f)
     for (int k = 0; k < 3; ++k) ++count[static_cast<std::size_t>(FE(f, k))];
   EdgeTopology t;

@@ -36,8 +36,8 @@ class Body {
 
   const TriMesh& mesh() const { return mesh_; }
   const MatrixX3d& faceNormals() const { return face_normals_; }  // #F by 3, unit, outward
-  // Edge adjacency, built on the first call to any of these three (thread-safe), then reused: a
-  // drape that only needs the depth maps never builds it.
+  // Edge adjacency, built with the body (its topology is counted over the edge list) and reused by
+  // every frame of it.
   const MatrixX2i& edges() const { buildAdjacency(); return edges_; }             // #E by 2 unique edges
   const MatrixX3i& faceEdges() const { buildAdjacency(); return face_edges_; }    // #F by 3 into edges()
   // Unit mean of the normals of the faces incident to edge e (outward direction at a ridge or a

@@ -105,6 +105,8 @@ struct EdgeTopology {
   bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0; }
 };
 EdgeTopology edgeTopology(const TriMesh& mesh);
+// The same from uniqueEdges' face-edge table (#F by 3, into `edges` edges) of the mesh.
+EdgeTopology edgeTopology(const MatrixX3i& faceEdges, Eigen::Index edges);
 
 // Boundary loops: the connected pieces of the graph of boundary edges (edges with exactly one
 // incident face). A disc has 1, a tube 2, a closed surface 0; two holes that share a vertex count
