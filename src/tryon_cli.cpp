@@ -631,7 +631,10 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
   const double warmMin = number(opt, "warm-min", vt::defaultWarmStartMin(params));
   if (!(warmMin >= 0 && warmMin <= 1)) throw Usage("--warm-min must be in [0, 1] m");
   std::size_t coldFallbacks = 0, widened = 0;
+  // The garment's edge lists and neighbour graph, built once for every frame's calls.
+  params.connectivity = vt::garmentConnectivity(garmentRest);
   vt::CoherenceParams coherenceParams;
+  coherenceParams.connectivity = params.connectivity;
   coherenceParams.max_change = number(opt, "max-jitter", coherenceParams.max_change);
   if (!(coherenceParams.max_change >= 0 && coherenceParams.max_change <= 1))
     throw Usage("--max-jitter must be in [0, 1] m (0: off)");

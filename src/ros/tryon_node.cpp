@@ -405,6 +405,7 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
     CoherenceParams cp;
     cp.max_change = settings_.max_jitter;
     cp.min_clearance = 0.5 * clearance;
+    cp.connectivity = last_resolved_.connectivity;
     const CoherenceReport c = limitCorrectionChange(*body.body, garment, input, last_resolved_.correction, cp);
     if (c.candidates > 0) {
       std::ostringstream o;
@@ -417,8 +418,16 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
       said = o.str();
     }
   }
-  if (converged) last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, input, garment.V - input};
-  else last_resolved_ = ResolvedFrame();
+  if (converged) {
+    // the connectivity of these faces: the frame before's when it had the same faces
+    std::shared_ptr<const GarmentConnectivity> connectivity =
+        last_resolved_.F.rows() == garment.F.rows() && last_resolved_.F == garment.F && last_resolved_.connectivity
+            ? last_resolved_.connectivity
+            : garmentConnectivity(garment);
+    last_resolved_ = ResolvedFrame{body.series, body.frame_index, garment.F, input, garment.V - input, connectivity};
+  } else {
+    last_resolved_ = ResolvedFrame();
+  }
   return said;
 }
 
@@ -432,15 +441,19 @@ ResolverReport TryonNode::resolveFrame(const BodyState& body, TriMesh& garment, 
                                        bool topicFrame, std::uint64_t& warmFrom) {
   warmFrom = 0;
   PreviousFrame previous;
-  if (topicFrame && settings_.warm_start) {
+  ResolverParams frameParams = params;
+  if (topicFrame) {
     std::lock_guard<std::mutex> lock(resolved_mutex_);
     if (lastResolvedPrecedes(body, garment)) {
-      previous = PreviousFrame{last_resolved_.input, last_resolved_.correction};
-      warmFrom = last_resolved_.frame_index + 1;
+      frameParams.connectivity = last_resolved_.connectivity;
+      if (settings_.warm_start) {
+        previous = PreviousFrame{last_resolved_.input, last_resolved_.correction};
+        warmFrom = last_resolved_.frame_index + 1;
+      }
     }
   }
   FrameStart start = FrameStart::Cold;
-  const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previous, params,
+  const ResolverReport report = virtual_tryon::resolveFrame(*body.body, garment, previous, frameParams,
                                                             defaultWarmStartMin(params), &start);
   if (start != FrameStart::Warm) warmFrom = 0;
   return report;

@@ -79,6 +79,37 @@ TEST(ProceduralAnimation, EveryFrameResolvesCleanOnItsRefittedBody) {
   }
 }
 
+// The garment's connectivity built once and handed to every frame's call (what the CLI and the
+// node do for a sequence) gives the frames bit for bit as each call building its own; one built
+// for another mesh (other counts) is not used.
+TEST(ProceduralAnimation, ConnectivityBuiltOnceGivesTheSameFrames) {
+  ProceduralAnimationParams p;
+  p.frames = 3;
+  p.amplitude = 0.3;
+  const ProceduralAnimation a = makeProceduralAnimation(p);
+  ResolverParams shared;
+  shared.connectivity = garmentConnectivity(a.garment);
+  ResolverParams wrong;
+  wrong.connectivity = garmentConnectivity(a.body);
+  std::unique_ptr<Body> body = std::make_unique<Body>(a.body);
+  PreviousFrame previous;
+  for (std::size_t f = 0; f < a.body_frames.size(); ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    if (f > 0) body = std::make_unique<Body>(std::move(*body), a.body_frames[f]);
+    const TriMesh input{a.garment_frames[f], a.garment.F};
+    TriMesh own = input, given = input, other = input;
+    const ResolverReport r = resolveFrame(*body, own, previous, ResolverParams());
+    const ResolverReport g = resolveFrame(*body, given, previous, shared);
+    resolveFrame(*body, other, previous, wrong);
+    EXPECT_TRUE(r.converged) << r.reason;
+    if (f == 0) EXPECT_GT(r.garment_edge_crossings_before + r.body_edge_crossings_before, 0u);  // work to do
+    EXPECT_EQ(g.garment_edge_crossings_before, r.garment_edge_crossings_before);
+    EXPECT_EQ(given.V, own.V);
+    EXPECT_EQ(other.V, own.V);
+    previous = PreviousFrame{input.V, own.V - input.V};
+  }
+}
+
 namespace {
 
 struct WarmRun {

@@ -104,6 +104,7 @@ class TryonNode {
     MatrixX3i F;
     MatrixX3d input;       // the fit's input garment
     MatrixX3d correction;  // resolved minus input
+    std::shared_ptr<const GarmentConnectivity> connectivity;  // of F, for the next frame's calls
   };
   struct GarmentState {
     std::shared_ptr<const TriMesh> mesh;

@@ -227,6 +227,7 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
     for (const Spring& sp : cloth_->springs())
       if (sp.type == SpringType::Structural) frame_resolver_.relaxation.rest_lengths.push_back({sp.a, sp.b, sp.rest});
   }
+  frame_resolver_.connectivity = garmentConnectivity(garment_);  // the cloth's faces stay: built once
   quick_resolver_ = frame_resolver_;
   quick_resolver_.relaxation.max_sweeps = params_.quick_sweeps;
   quick_resolver_.relaxation.rings = params_.quick_rings;

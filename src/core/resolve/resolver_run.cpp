@@ -28,7 +28,7 @@ bool edgeStrain(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E
   return true;
 }
 
-// Sorted |l / l0 - 1| over the edges of non-zero input length; a single 0 when there is none.
+// |l / l0 - 1| of each edge of non-zero input length, in edge order; a single 0 when there is none.
 std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
   std::vector<double> s;
   s.reserve(static_cast<std::size_t>(E.rows()));
@@ -36,11 +36,10 @@ std::vector<double> edgeStrains(const TriMesh& input, const TriMesh& garment, co
   for (Eigen::Index e = 0; e < E.rows(); ++e)
     if (edgeStrain(input, garment, E, e, strain)) s.push_back(strain);
   if (s.empty()) s.push_back(0);
-  std::sort(s.begin(), s.end());
   return s;
 }
 
-// The largest of edgeStrains, without the sort.
+// The largest of edgeStrains.
 double maxEdgeStrain(const TriMesh& input, const TriMesh& garment, const MatrixX2i& E) {
   double worst = 0, strain = 0;
   for (Eigen::Index e = 0; e < E.rows(); ++e)
@@ -121,6 +120,12 @@ int parity(const std::unordered_map<int, int>& flips, int e) {
 
 }  // namespace
 
+std::shared_ptr<const GarmentConnectivity> connectivityFor(const TriMesh& garment,
+                                                           const std::shared_ptr<const GarmentConnectivity>& given) {
+  if (given && given->vertices == garment.V.rows() && given->faces == garment.F.rows()) return given;
+  return std::make_shared<const GarmentConnectivity>(garment);
+}
+
 GarmentGraph::GarmentGraph(const TriMesh& garment, const GarmentTopology& topo) {
   const int nv = static_cast<int>(garment.V.rows());
   facesRoundVertices(garment.F, nv, vf_start, vf);
@@ -176,8 +181,9 @@ ResolverRun::ResolverRun(const Body& body, const TriMesh& input, TriMesh& garmen
       params_(params),
       clock_(clock),
       nv_(static_cast<int>(garment.V.rows())),
-      topo_(garment),
-      graph_(garment, topo_),
+      connectivity_(connectivityFor(garment, params.connectivity)),
+      topo_(connectivity_->topo),
+      graph_(connectivity_->graph),
       d_((params.clearance > 0 ? params.clearance
                                : params.clearance_fraction * meanLength(input.V, topo_.edges)) +
          std::max(0.0, params.body_uncertainty)),
@@ -721,12 +727,21 @@ void ResolverRun::displacementStats() {
   rep_.mean_displacement = rep_.moved_vertices ? sum / static_cast<double>(rep_.moved_vertices) : 0.0;
 }
 
+// The largest strain and the 99th percentile's (the value at that rank of the sorted strains,
+// found without sorting them all).
 void ResolverRun::shapeStats() {
-  const std::vector<double> strain = edgeStrains(input_, garment_, topo_.edges);
-  rep_.max_edge_strain = strain.back();
+  std::vector<double> strain = edgeStrains(input_, garment_, topo_.edges);
+  rep_.max_edge_strain = *std::max_element(strain.begin(), strain.end());
   const std::size_t rank = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(strain.size())));
-  rep_.p99_edge_strain = strain[std::max<std::size_t>(rank, 1) - 1];
+  const auto at = strain.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(rank, 1) - 1);
+  std::nth_element(strain.begin(), at, strain.end());
+  rep_.p99_edge_strain = *at;
 }
 
 }  // namespace resolver_run
+
+std::shared_ptr<const GarmentConnectivity> garmentConnectivity(const TriMesh& garment) {
+  return std::make_shared<const GarmentConnectivity>(garment);
+}
+
 }  // namespace virtual_tryon

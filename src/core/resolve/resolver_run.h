@@ -62,6 +62,22 @@ struct GarmentGraph {
   int pieceSize(int p) const { return piece_start[p + 1] - piece_start[p]; }
 };
 
+}  // namespace resolver_run
+
+struct GarmentConnectivity {
+  explicit GarmentConnectivity(const TriMesh& garment)
+      : vertices(garment.V.rows()), faces(garment.F.rows()), topo(garment), graph(garment, topo) {}
+  Eigen::Index vertices, faces;
+  GarmentTopology topo;
+  resolver_run::GarmentGraph graph;
+};
+
+namespace resolver_run {
+
+// `given` when it was built for a garment of this one's vertex and face counts, else built here.
+std::shared_ptr<const GarmentConnectivity> connectivityFor(const TriMesh& garment,
+                                                           const std::shared_ptr<const GarmentConnectivity>& given);
+
 // The shape relaxation (shape_relaxation.h) over a run's garment graph, so the run does not build
 // the graph a second time.
 // `candidates`, when given: the run's candidate cache (the faces' body faces found by the rounds'
@@ -147,8 +163,9 @@ class ResolverRun {
   ResolverReport rep_;
   std::ostringstream reason_;
   const int nv_;
-  const GarmentTopology topo_;
-  const GarmentGraph graph_;
+  const std::shared_ptr<const GarmentConnectivity> connectivity_;  // given, or built for this call
+  const GarmentTopology& topo_;
+  const GarmentGraph& graph_;
   const double d_;  // the clearance
   const bool insideTest_;
   const bool warm_;  // started from a garment other than the input (resolvePenetrationsFrom)

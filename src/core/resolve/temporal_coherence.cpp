@@ -21,8 +21,9 @@ double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d
 // nothing, none is inside the body, and each is at least its floor from it.
 class MoveCheck {
  public:
-  MoveCheck(const Body& body, const TriMesh& garment)
-      : body_(body), garment_(garment), topo_(garment), graph_(garment, topo_) {
+  MoveCheck(const Body& body, const TriMesh& garment, const std::shared_ptr<const GarmentConnectivity>& given)
+      : body_(body), garment_(garment), connectivity_(resolver_run::connectivityFor(garment, given)),
+        topo_(connectivity_->topo), graph_(connectivity_->graph) {
     mark_.assign(static_cast<std::size_t>(garment.F.rows()), 0);
   }
   bool clean(const std::vector<int>& patch, const std::vector<double>& floors) {
@@ -52,8 +53,9 @@ class MoveCheck {
  private:
   const Body& body_;
   const TriMesh& garment_;
-  GarmentTopology topo_;
-  resolver_run::GarmentGraph graph_;  // the faces round each vertex, the neighbours over edges
+  std::shared_ptr<const GarmentConnectivity> connectivity_;
+  const GarmentTopology& topo_;
+  const resolver_run::GarmentGraph& graph_;  // the faces round each vertex, the neighbours over edges
   std::vector<int> around_;
   std::vector<char> mark_;
   CrossingSet crossings_;
@@ -116,7 +118,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     if (((garment.V.row(v) - input.row(v)) - previousCorrection.row(v)).norm() > limit) over.push_back(static_cast<int>(v));
   rep.candidates = over.size();
   const MatrixX3d resolved = garment.V;
-  MoveCheck check(body, garment);
+  MoveCheck check(body, garment, params.connectivity);
   Patches patches(check.graph());
   // Per vertex: the clearance it keeps when it moves (the limit, or as far as it was if nearer);
   // -1 until it first moves.

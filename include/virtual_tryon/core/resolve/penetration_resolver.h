@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,13 @@ struct ResolverIteration {
   bool push_out = false;  // this step pushed garment pieces found wholly inside to the surface
 };
 
+// A garment's edge lists and neighbour graph, which its faces alone decide: every call builds its
+// own unless it is handed one. The frames of one garment (the same faces, new positions) build it
+// once and hand it to each frame's calls (ResolverParams::connectivity,
+// CoherenceParams::connectivity).
+struct GarmentConnectivity;
+std::shared_ptr<const GarmentConnectivity> garmentConnectivity(const TriMesh& garment);
+
 struct ResolverParams {
   // Clearance d of eq. 7 in metres; <= 0 means clearance_fraction * mean garment edge length.
   double clearance = 0.0;
@@ -98,6 +106,9 @@ struct ResolverParams {
   // Optional observer, called with every trace entry and the garment as it is then (e.g. to count
   // crossings independently). Its time is left out of every time the resolver reports.
   std::function<void(const ResolverIteration&, const TriMesh& garment)> on_iteration;
+  // The garment's connectivity (garmentConnectivity of a mesh with its faces), when the caller has
+  // it; else, or when its vertex or face count is not the garment's, the call builds its own.
+  std::shared_ptr<const GarmentConnectivity> connectivity;
 };
 
 struct ResolverReport {

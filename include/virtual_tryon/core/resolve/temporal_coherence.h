@@ -20,6 +20,7 @@
 #pragma once
 
 #include "virtual_tryon/core/body/body.h"
+#include "virtual_tryon/core/resolve/penetration_resolver.h"
 
 #include <cstddef>
 #include <functional>
@@ -42,6 +43,8 @@ struct CoherenceParams {
   // walk's male T-shirt, one such move took a frame's largest edge strain from 0.10 to 0.26; with
   // two rings 0.12, with one 0.16).
   int backward_rings = 2;
+  // The garment's connectivity (penetration_resolver.h), when the caller has it; else built.
+  std::shared_ptr<const GarmentConnectivity> connectivity;
 };
 
 struct CoherenceReport {
