@@ -79,6 +79,22 @@ TEST(ProceduralAnimation, EveryFrameResolvesCleanOnItsRefittedBody) {
   }
 }
 
+namespace {
+
+// Calls frame(body, input, f) for every frame f of `a`: the body a frame of the one before (trees
+// refitted), the input the garment's frame.
+template <class Frame>
+void eachFrame(const ProceduralAnimation& a, Frame&& frame) {
+  std::unique_ptr<Body> body = std::make_unique<Body>(a.body);
+  for (std::size_t f = 0; f < a.body_frames.size(); ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    if (f > 0) body = std::make_unique<Body>(std::move(*body), a.body_frames[f]);
+    frame(*body, TriMesh{a.garment_frames[f], a.garment.F}, f);
+  }
+}
+
+}  // namespace
+
 // The garment's connectivity built once and handed to every frame's call (what the CLI and the
 // node do for a sequence) gives the frames bit for bit as each call building its own; one built
 // for another mesh (other counts) is not used.
@@ -91,23 +107,19 @@ TEST(ProceduralAnimation, ConnectivityBuiltOnceGivesTheSameFrames) {
   shared.connectivity = garmentConnectivity(a.garment);
   ResolverParams wrong;
   wrong.connectivity = garmentConnectivity(a.body);
-  std::unique_ptr<Body> body = std::make_unique<Body>(a.body);
   PreviousFrame previous;
-  for (std::size_t f = 0; f < a.body_frames.size(); ++f) {
-    SCOPED_TRACE("frame " + std::to_string(f));
-    if (f > 0) body = std::make_unique<Body>(std::move(*body), a.body_frames[f]);
-    const TriMesh input{a.garment_frames[f], a.garment.F};
+  eachFrame(a, [&](const Body& body, const TriMesh& input, std::size_t f) {
     TriMesh own = input, given = input, other = input;
-    const ResolverReport r = resolveFrame(*body, own, previous, ResolverParams());
-    const ResolverReport g = resolveFrame(*body, given, previous, shared);
-    resolveFrame(*body, other, previous, wrong);
+    const ResolverReport r = resolveFrame(body, own, previous, ResolverParams());
+    const ResolverReport g = resolveFrame(body, given, previous, shared);
+    resolveFrame(body, other, previous, wrong);
     EXPECT_TRUE(r.converged) << r.reason;
     if (f == 0) EXPECT_GT(r.garment_edge_crossings_before + r.body_edge_crossings_before, 0u);  // work to do
     EXPECT_EQ(g.garment_edge_crossings_before, r.garment_edge_crossings_before);
     EXPECT_EQ(given.V, own.V);
     EXPECT_EQ(other.V, own.V);
     previous = PreviousFrame{input.V, own.V - input.V};
-  }
+  });
 }
 
 namespace {
@@ -122,15 +134,11 @@ struct WarmRun {
 // frame by the referee on its own body against its own input.
 WarmRun resolveWarm(const ProceduralAnimation& a, const ResolverParams& params) {
   WarmRun run;
-  std::unique_ptr<Body> body = std::make_unique<Body>(a.body);
   PreviousFrame previous;
-  for (std::size_t f = 0; f < a.body_frames.size(); ++f) {
-    SCOPED_TRACE("frame " + std::to_string(f));
-    if (f > 0) body = std::make_unique<Body>(std::move(*body), a.body_frames[f]);
-    const TriMesh input{a.garment_frames[f], a.garment.F};
+  eachFrame(a, [&](const Body& body, const TriMesh& input, std::size_t f) {
     TriMesh garment = input;
     FrameStart start = FrameStart::Cold;
-    const ResolverReport r = resolveFrame(*body, garment, previous, params, -1, &start);
+    const ResolverReport r = resolveFrame(body, garment, previous, params, -1, &start);
     EXPECT_TRUE(r.converged) << r.reason;
     EXPECT_EQ(start, f == 0 ? FrameStart::Cold : FrameStart::Warm);
     if (f > 0) {
@@ -145,7 +153,7 @@ WarmRun resolveWarm(const ProceduralAnimation& a, const ResolverParams& params) 
     run.worst_max_strain = std::max(run.worst_max_strain, shape.max_strain);
     run.worst_p99_strain = std::max(run.worst_p99_strain, shape.p99_strain);
     previous = PreviousFrame{input.V, garment.V - input.V};
-  }
+  });
   return run;
 }
 
