@@ -180,7 +180,8 @@ const MatrixX3d& Body::edgeNormals() const {
 const MatrixX3d& Body::vertexNormals() const {
   std::call_once(vertex_normals_once_, [this] {
     vertex_normals_.resize(mesh_.V.rows(), 3);
-    for (Eigen::Index v = 0; v < mesh_.V.rows(); ++v) vertex_normals_.row(v) = vertexNormal(static_cast<int>(v)).transpose();
+    for (Eigen::Index v = 0; v < mesh_.V.rows(); ++v)
+      vertex_normals_.row(v) = vertexNormal(static_cast<int>(v)).transpose();
   });
   return vertex_normals_;
 }
@@ -239,11 +240,6 @@ void refitFclTree(FclModel& model, const MatrixX3d& V, const MatrixX3i& F) {
 }
 
 }  // namespace
-
-void BodyBVH::refit(const TriMesh& mesh) {
-  refitFcl(mesh);
-  refitFaceTree(mesh);
-}
 
 void BodyBVH::refitFcl(const TriMesh& mesh) { refitFclTree(*model, mesh.V, mesh.F); }
 

@@ -29,8 +29,7 @@ class BodyBVH {
   // A copy of these trees (body.cpp).
   std::unique_ptr<BodyBVH> copy() const;
   // These trees refitted in place to the same faces on new vertex positions (not while anyone
-  // queries them): both, or FCL's and the box tree apart (two threads may do one each).
-  void refit(const TriMesh& mesh);
+  // queries them): FCL's and the box tree apart (two threads may do one each).
   void refitFcl(const TriMesh& mesh);
   void refitFaceTree(const TriMesh& mesh);
 

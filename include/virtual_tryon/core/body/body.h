@@ -24,8 +24,9 @@ class Body {
   // (#V by 3, as many as previous has; else std::invalid_argument). What depends on the faces alone
   // is reused (edge topology, the edge list, the faces round each vertex: built on previous first if
   // it had not built them); face normals, bounds and volume are computed for V (edge and vertex
-  // normals and the mean edge length when asked for); previous's face trees, when built, are copied and refitted to V (same tree,
-  // new boxes: bvhRefitted()), not rebuilt. Depth maps are not carried over (the body moved).
+  // normals and the mean edge length when asked for); previous's face trees, when built, are
+  // copied and refitted to V (same tree, new boxes: bvhRefitted()), not rebuilt. Depth maps are
+  // not carried over (the body moved).
   Body(const Body& previous, MatrixX3d V);
   // The same, taking previous's lists and trees instead of copying them (previous is left empty:
   // only to be destroyed or assigned). What a stream of frames uses.
