@@ -1,7 +1,6 @@
 // `tryon`: the core without ROS, for batch use. See `tryon --help`.
 // Exit codes: 0 converged / clean, 3 not converged / not clean, 2 bad input or usage.
 #include "virtual_tryon/core/body/body.h"
-#include "virtual_tryon/heap_settings.h"
 #include "virtual_tryon/core/body/body_preparation.h"
 #include "virtual_tryon/core/drape/drape.h"
 #include "virtual_tryon/core/drape/frames_ahead.h"
@@ -22,6 +21,7 @@
 #include "virtual_tryon/testing/reference_shape.h"
 #include "virtual_tryon/core/io/report.h"
 #include "virtual_tryon/render/fit_render.h"
+#include "virtual_tryon/heap_settings.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
