@@ -9,8 +9,6 @@
 namespace virtual_tryon {
 
 namespace {
-constexpr int kLeafFaces = 4;
-
 double boxDistance2(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& p) {
   return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();
 }
@@ -38,10 +36,75 @@ FaceBoxTree::FaceBoxTree(const TriMesh& mesh) {
   order_.resize(static_cast<std::size_t>(nf));
   std::iota(order_.begin(), order_.end(), 0);
   nodes_.reserve(static_cast<std::size_t>(2 * nf / kLeafFaces + 2));
-  build(centre, 0, nf);
+  build(centre, 0, nf, 0);
 }
 
-int FaceBoxTree::build(const std::vector<Eigen::Vector3d>& centre, int first, int count) {
+// Binned surface-area split of order_[first .. first + count) along `axis` (centres from c0 to c1):
+// the faces are put in kBins bins by centre, the split between bins that minimises
+// area(left box) * left count + area(right box) * right count is taken, and order_ partitioned at
+// it. Returns the left count; when every centre falls in one bin, the median.
+int FaceBoxTree::sahSplit(const std::vector<Eigen::Vector3d>& centre, int first, int count, int axis, double c0,
+                          double c1) {
+  constexpr int kBins = 16;
+  const double width = c1 - c0;
+  auto binOf = [&](int f) {
+    return width > 0 ? std::min(kBins - 1, static_cast<int>((centre[f][axis] - c0) / width * kBins)) : 0;
+  };
+  Eigen::Vector3d blo[kBins], bhi[kBins];
+  int n[kBins] = {};
+  for (int i = first; i < first + count; ++i) {
+    const int f = order_[static_cast<std::size_t>(i)];
+    const int b = binOf(f);
+    blo[b] = n[b] ? Eigen::Vector3d(blo[b].cwiseMin(box_[f].lo)) : box_[f].lo;
+    bhi[b] = n[b] ? Eigen::Vector3d(bhi[b].cwiseMax(box_[f].hi)) : box_[f].hi;
+    ++n[b];
+  }
+  auto area = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    const Eigen::Vector3d d = hi - lo;
+    return d.x() * d.y() + d.y() * d.z() + d.z() * d.x();
+  };
+  double rightCost[kBins] = {};
+  {
+    Eigen::Vector3d lo, hi;
+    int m = 0;
+    for (int b = kBins - 1; b > 0; --b) {
+      if (n[b]) {
+        lo = m ? Eigen::Vector3d(lo.cwiseMin(blo[b])) : blo[b];
+        hi = m ? Eigen::Vector3d(hi.cwiseMax(bhi[b])) : bhi[b];
+        m += n[b];
+      }
+      rightCost[b] = m ? area(lo, hi) * m : 0;
+    }
+  }
+  int best = -1;
+  double bestCost = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d lo, hi;
+  int m = 0;
+  for (int b = 0; b + 1 < kBins; ++b) {
+    if (n[b]) {
+      lo = m ? Eigen::Vector3d(lo.cwiseMin(blo[b])) : blo[b];
+      hi = m ? Eigen::Vector3d(hi.cwiseMax(bhi[b])) : bhi[b];
+      m += n[b];
+    }
+    if (m == 0 || m == count) continue;
+    const double cost = area(lo, hi) * m + rightCost[b + 1];
+    if (cost < bestCost) {
+      bestCost = cost;
+      best = b;
+    }
+  }
+  if (best < 0) {
+    const int half = count / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                     [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
+    return half;
+  }
+  return static_cast<int>(std::partition(order_.begin() + first, order_.begin() + first + count,
+                                         [&](int f) { return binOf(f) <= best; }) -
+                          (order_.begin() + first));
+}
+
+int FaceBoxTree::build(const std::vector<Eigen::Vector3d>& centre, int first, int count, int depth) {
   const int id = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   Eigen::Vector3d lo = box_[order_[first]].lo, hi = box_[order_[first]].hi;
@@ -55,18 +118,16 @@ int FaceBoxTree::build(const std::vector<Eigen::Vector3d>& centre, int first, in
   }
   nodes_[id].lo = lo;
   nodes_[id].hi = hi;
-  if (count <= kLeafFaces) {
+  if (count <= kLeafFaces || depth == kMaxDepth) {
     nodes_[id].first = first;
     nodes_[id].count = count;
     return id;
   }
   int axis = 0;
   (chi - clo).maxCoeff(&axis);
-  const int half = count / 2;
-  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                   [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
-  const int left = build(centre, first, half);
-  const int right = build(centre, first + half, count - half);
+  const int half = sahSplit(centre, first, count, axis, clo[axis], chi[axis]);
+  const int left = build(centre, first, half, depth + 1);
+  const int right = build(centre, first + half, count - half, depth + 1);
   nodes_[id].left = left;
   nodes_[id].right = right;
   return id;

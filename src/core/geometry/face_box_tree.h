@@ -1,24 +1,35 @@
-// Internal to the core: an axis-aligned box tree over the triangles of one mesh (median split on
-// the longest axis of the centroids, leaves of up to 4 faces), for the edge-face detection. FCL's
-// mesh-mesh traversal runs a triangle-triangle test on every overlapping pair before the
-// detection's own segment tests see it; this tree hands over the box-overlapping pairs directly,
-// and its boxes can be refitted in place when the vertices move and the faces stay.
+// Internal to the core: an axis-aligned box tree over the triangles of one mesh (binned
+// surface-area splits, leaves of up to 4 faces). It serves every body query: the edge-face
+// detection (box-overlapping pairs handed over directly, where FCL's mesh-mesh traversal would run
+// a triangle-triangle test on each first), the nearest point and the ray-parity inside test; its
+// boxes are refitted in place when the vertices move and the faces stay.
 #pragma once
 
 #include "virtual_tryon/core/geometry/mesh.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace virtual_tryon {
 
 class FaceBoxTree {
  public:
+  static constexpr int kLeafFaces = 4;
+  static constexpr int kMaxDepth = 60;  // a deeper node is a leaf, whatever its size (the walks' stacks hold 128)
+
   FaceBoxTree() = default;
+  // Built over mesh's faces: each node split by a binned surface-area rule (sahSplit), a subtree
+  // of up to kLeafFaces faces one leaf.
   explicit FaceBoxTree(const TriMesh& mesh);
 
   // Calls visit(face) for every face whose closed bounding box overlaps [lo, hi].
   template <class Visit>
   void overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit&& visit) const;
+
+  // Calls visit(face) for every face whose closed bounding box the segment [p, p + d] meets
+  // (invD: 1 / d per axis).
+  template <class Visit>
+  void alongSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, Visit&& visit) const;
 
   // The face nearest to p and the nearest point on it (branch and bound over the boxes; faces of
   // equal distance: the first found). `mesh` is the mesh the tree was built over. -1 when empty.
@@ -27,6 +38,7 @@ class FaceBoxTree {
   // New vertex positions, same faces: every box grown or shrunk to fit (the split stays).
   void refit(const MatrixX3d& V, const MatrixX3i& F);
   bool empty() const { return nodes_.empty(); }
+  int nodeCount() const { return static_cast<int>(nodes_.size()); }
 
   // Whether face f's bounding box, as the tree holds it (as built or last refitted), overlaps the
   // closed box [lo, hi].
@@ -41,7 +53,8 @@ class FaceBoxTree {
     int left = -1, right = -1;  // children; -1 for a leaf
     int first = 0, count = 0;   // leaf: faces order_[first .. first + count)
   };
-  int build(const std::vector<Eigen::Vector3d>& centre, int first, int count);
+  int build(const std::vector<Eigen::Vector3d>& centre, int first, int count, int depth);
+  int sahSplit(const std::vector<Eigen::Vector3d>& centre, int first, int count, int axis, double c0, double c1);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
   std::vector<Node> nodes_;
   std::vector<int> order_;
@@ -68,6 +81,45 @@ void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
     for (int i = n.first; i < n.first + n.count; ++i) {
       const int f = order_[static_cast<std::size_t>(i)];
       if (faceOverlaps(f, lo, hi)) visit(f);
+    }
+  }
+}
+
+namespace face_box_tree_detail {
+// Does the segment [p, p + d] (invD = 1 / d per axis) meet the closed box [lo, hi]? (slab test)
+inline bool segmentMeetsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, const Eigen::Vector3d& lo,
+                            const Eigen::Vector3d& hi) {
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 3; ++k) {
+    double a = (lo[k] - p[k]) * invD[k], b = (hi[k] - p[k]) * invD[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+}  // namespace face_box_tree_detail
+
+template <class Visit>
+void FaceBoxTree::alongSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, Visit&& visit) const {
+  using face_box_tree_detail::segmentMeetsBox;
+  if (nodes_.empty()) return;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
+    if (!segmentMeetsBox(p, invD, n.lo, n.hi)) continue;
+    if (n.left >= 0) {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+      continue;
+    }
+    for (int i = n.first; i < n.first + n.count; ++i) {
+      const int f = order_[static_cast<std::size_t>(i)];
+      const Box& b = box_[static_cast<std::size_t>(f)];
+      if (segmentMeetsBox(p, invD, b.lo, b.hi)) visit(f);
     }
   }
 }

@@ -1,8 +1,7 @@
 #include "virtual_tryon/core/geometry/point_queries.h"
 
 #include "virtual_tryon/core/geometry/edge_face_crossing.h"
-#include "core/geometry/fcl_bvh.h"
-
+#include "core/geometry/body_bvh.h"
 
 #include <algorithm>
 #include <vector>
@@ -32,11 +31,11 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Through the detection's box tree (branch and bound on box distances, exact point-triangle
-// distances at the leaves): several times cheaper than FCL's OBBRSS distance query with GJK.
+// Through the body's box tree (branch and bound on box distances, exact point-triangle distances
+// at the leaves): several times cheaper than FCL's OBBRSS distance query with GJK.
 ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p) {
   ClosestPoint cp;
-  cp.face = body.bvh().faceTree(body.mesh()).nearest(body.mesh(), p, cp.point);
+  cp.face = body.bvh().faceTree().nearest(body.mesh(), p, cp.point);
   if (cp.face < 0) cp.point = p;
   cp.distance = (cp.point - p).norm();
   return cp;
@@ -44,43 +43,18 @@ ClosestPoint closestPointOnBody(const Body& body, const Eigen::Vector3d& p) {
 
 namespace {
 
-// Does segment [p, p + d] meet the box? (slab test)
-bool segmentHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, const fcl::AABBd& box) {
-  double t0 = 0, t1 = 1;
-  for (int k = 0; k < 3; ++k) {
-    double a = (box.min_[k] - p[k]) * invD[k], b = (box.max_[k] - p[k]) * invD[k];
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-// Number of body faces the segment [p, q] crosses, walking the body's AABB tree.
+// Number of body faces the segment [p, q] crosses, walking the body's box tree.
 int countSegmentCrossings(const Body& body, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
-  const FclModel& model = *body.bvh().model;
   const MatrixX3d& V = body.mesh().V;
   const MatrixX3i& F = body.mesh().F;
   const Eigen::Vector3d d = q - p;
   const Eigen::Vector3d invD(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
   int hits = 0;
-  std::vector<int> stack{0};
-  while (!stack.empty()) {
-    const int id = stack.back();
-    stack.pop_back();
-    const auto& node = model.getBV(id);
-    if (!segmentHitsBox(p, invD, node.bv)) continue;
-    if (node.isLeaf()) {
-      const int f = node.primitiveId();
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      // Either orientation: a ray counts every surface it passes through.
-      if (segmentCrossesTriangle(p, q, a, b, c) || segmentCrossesTriangle(q, p, a, b, c)) ++hits;
-    } else {
-      stack.push_back(node.leftChild());
-      stack.push_back(node.rightChild());
-    }
-  }
+  body.bvh().faceTree().alongSegment(p, invD, [&](int f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    // Either orientation: a ray counts every surface it passes through.
+    if (segmentCrossesTriangle(p, q, a, b, c) || segmentCrossesTriangle(q, p, a, b, c)) ++hits;
+  });
   return hits;
 }
 

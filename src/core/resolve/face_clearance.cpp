@@ -1,7 +1,7 @@
 #include "core/resolve/face_clearance.h"
 
 #include "core/geometry/face_box_tree.h"
-#include "core/geometry/fcl_bvh.h"
+#include "core/geometry/body_bvh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,7 @@ void faceClearances(const Body& body, const TriMesh& garment, int f, double c, s
   if (!(fn2 > 0)) return;
   const Eigen::Vector3d lo = x0.cwiseMin(x1).cwiseMin(x2).array() - c, hi = x0.cwiseMax(x1).cwiseMax(x2).array() + c;
   std::vector<int> corners;
-  body.bvh().faceTree(B).overlapping(lo, hi, [&](int bf) {
+  body.bvh().faceTree().overlapping(lo, hi, [&](int bf) {
     for (int k = 0; k < 3; ++k) corners.push_back(B.F(bf, k));
   });
   std::sort(corners.begin(), corners.end());

@@ -2,8 +2,7 @@
 
 #include "virtual_tryon/core/geometry/edge_face_crossing.h"
 
-#include "core/geometry/fcl_bvh.h"
-
+#include "core/geometry/body_bvh.h"
 
 #include <algorithm>
 #include <chrono>
@@ -32,11 +31,6 @@ void sortUnique(std::vector<EdgeFaceCrossing>& v) {
 }  // namespace
 
 GarmentTopology::GarmentTopology(const TriMesh& garment) { edges = uniqueEdges(garment, &face_edges); }
-
-const FaceBoxTree& BodyBVH::faceTree(const TriMesh& mesh) const {
-  std::call_once(tree_once_, [&] { tree_ = std::make_unique<FaceBoxTree>(mesh); });
-  return *tree_;
-}
 
 namespace {
 
@@ -263,7 +257,7 @@ void detectCrossingsWith(const Body& body, const TriMesh& garment, const Garment
   out.body_edges.clear();
   if (garment.F.rows() == 0 || body.mesh().F.rows() == 0) return;
   if (faces && faces->empty()) return;
-  const FaceBoxTree& tree = body.bvh().faceTree(body.mesh());
+  const FaceBoxTree& tree = body.bvh().faceTree();
   body.edges();  // the body's adjacency, built before any thread reads it
   const int n = faces ? static_cast<int>(faces->size()) : static_cast<int>(garment.F.rows());
   const int threads = detectionThreads(n);

@@ -443,7 +443,7 @@ void ResolverRun::pushOutInsidePieces() {
 }
 
 void ResolverRun::pushTo(int v, const ClosestPoint& cp) {
-  moveVertex(v, (cp.point + d_ * body_.faceNormals().row(cp.face).transpose()).transpose());
+  moveVertex(v, (cp.point + d_ * body_.faceNormal(cp.face)).transpose());
 }
 
 // The solve time since t0, the crossings round the moved vertices, the best state, the trace.

@@ -219,7 +219,7 @@ class ShapeRelaxation {
     } else {
       point = walkToNearest(x, face);
     }
-    Eigen::Vector3d n = body_.faceNormals().row(face).transpose();
+    Eigen::Vector3d n = body_.faceNormal(face);
     const Eigen::Vector3d r = x - point;
     if (r.norm() > 1e-9 && r.dot(n) > 0) n = r.normalized();
     plane_face_[v] = face;
@@ -481,7 +481,7 @@ class ShapeRelaxation {
     }
     for (const auto& c : found.garment_edges) {
       if (!contact_keys_.insert(contactKey(0, c.edge, c.face)).second) continue;
-      const Eigen::Vector3d n = body_.faceNormals().row(c.face).transpose();
+      const Eigen::Vector3d n = body_.faceNormal(c.face);
       Contact k;
       k.count = 2;
       k.vertex = {{topo_.edges(c.edge, 0), topo_.edges(c.edge, 1), -1}};

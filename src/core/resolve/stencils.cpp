@@ -23,7 +23,7 @@ std::vector<Stencil> buildStencils(const Body& body, const TriMesh& garment,
     s.count = 1;
     s.vertex = {{x0, -1, -1}};
     s.weight = {{1.0, 0.0, 0.0}};
-    s.normal = body.faceNormals().row(c.face).transpose();
+    s.normal = body.faceNormal(c.face);
     s.D = D;
     out.push_back(s);
     if (illegal) illegal->push_back(x0);

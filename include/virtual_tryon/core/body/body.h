@@ -13,8 +13,8 @@
 
 namespace virtual_tryon {
 
-// The body's face trees: FCL's (ray and distance queries) and the edge-face detection's box tree
-// (core/geometry/fcl_bvh.h; FCL stays in the core's sources).
+// The body's face tree, one box tree for every body query: edge-face detection, nearest point,
+// ray-parity inside test (core/geometry/body_bvh.h).
 class BodyBVH;
 
 class Body {
@@ -23,12 +23,12 @@ class Body {
   // A new frame of `previous`'s body (a body that moves): the same faces, new vertex positions V
   // (#V by 3, as many as previous has; else std::invalid_argument). What depends on the faces alone
   // is reused (edge topology, the edge list, the faces round each vertex: built on previous first if
-  // it had not built them); face normals, bounds and volume are computed for V (edge and vertex
-  // normals and the mean edge length when asked for); previous's face trees, when built, are
+  // it had not built them); bounds and volume are computed for V (face, edge and vertex normals and
+  // the mean edge length when asked for); previous's face tree, when built, is
   // copied and refitted to V (same tree, new boxes: bvhRefitted()), not rebuilt. Depth maps are
   // not carried over (the body moved).
   Body(const Body& previous, MatrixX3d V);
-  // The same, taking previous's lists and trees instead of copying them (previous is left empty:
+  // The same, taking previous's lists and tree instead of copying them (previous is left empty:
   // only to be destroyed or assigned). What a stream of frames uses.
   Body(Body&& previous, MatrixX3d V);
   ~Body();
@@ -36,7 +36,11 @@ class Body {
   Body& operator=(const Body&) = delete;
 
   const TriMesh& mesh() const { return mesh_; }
-  const MatrixX3d& faceNormals() const { return face_normals_; }  // #F by 3, unit, outward
+  // Face f's unit outward normal (zero for a degenerate face), computed on the call; faceNormals():
+  // all of them (#F by 3, the same values), computed on the first call (thread-safe). A moving
+  // body asks for the few faces its crossings and contacts need.
+  Eigen::Vector3d faceNormal(int f) const;
+  const MatrixX3d& faceNormals() const;
   // Edge adjacency, built with the body (its topology is counted over the edge list) and reused by
   // every frame of it.
   const MatrixX2i& edges() const { buildAdjacency(); return edges_; }             // #E by 2 unique edges
@@ -67,10 +71,10 @@ class Body {
   const Eigen::Vector3d& boxMin() const { return box_min_; }  // axis-aligned bounds
   const Eigen::Vector3d& boxMax() const { return box_max_; }
 
-  // The face trees; built on the first call (thread-safe), then reused.
+  // The face tree; built on the first call (thread-safe), then reused.
   const BodyBVH& bvh() const;
   bool bvhBuilt() const { return bvh_built_; }
-  bool bvhRefitted() const { return bvh_refitted_; }  // refitted from a previous frame's trees
+  bool bvhRefitted() const { return bvh_refitted_; }  // refitted from a previous frame's tree
   double bvhBuildSeconds() const { return bvh_seconds_; }
 
   // Front/back depth and normal maps for image-space collisions, rendered on the first call for
@@ -85,10 +89,11 @@ class Body {
   void computeEdgeFirstFaces() const;
   void computeFrameGeometry();
   void adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> vertexFaceStart,
-                  std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> trees);
+                  std::vector<int> vertexFaces, std::unique_ptr<BodyBVH> tree);
 
   TriMesh mesh_;
-  MatrixX3d face_normals_;
+  mutable std::once_flag face_normals_once_;
+  mutable MatrixX3d face_normals_;
   mutable std::once_flag adjacency_once_;
   mutable std::atomic<bool> adjacency_built_{false};
   mutable MatrixX2i edges_;
