@@ -402,7 +402,7 @@ if modes:
     for i, mode in enumerate(("image", "object")):
         rs = [next((r for r in modes if r["body"] == b and r["mode"] == mode), None) for b in bodies]
         x = np.arange(len(bodies)) + (i - 0.5) * w
-        lab = "image space (depth maps)" if mode == "image" else "object space (FCL nearest point)"
+        lab = "image space (depth maps)" if mode == "image" else "object space (nearest body point)"
         axes[0].bar(x, [1e3 * num(r["seconds_per_iteration"]) if r else 0 for r in rs], w, label=lab)
         axes[1].bar(x, [num(r["total_s"]) if r else 0 for r in rs], w, label=lab)
         axes[2].bar(x, [1e3 * num(r["median_gap_m"]) if r else 0 for r in rs], w, label=lab)
@@ -422,7 +422,7 @@ if modes:
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle("Image space against object space, the same garment and iteration cap", fontsize=10)
-    report.append("### Image space against object space (FCL)\n")
+    report.append("### Image space against object space (nearest body point)\n")
     report.append(table(["body", "garment", "vertices", "mode", "iterations", "converged", "ms/iteration",
                          "drape s", "resolver s", "total s", "inside before resolver", "deepest mm", "median gap mm",
                          "after resolver: crossings / inside"],

@@ -145,7 +145,7 @@ void drapeSection(const Options& o) {
     }
     worstMapTimeRatio = std::max(worstMapTimeRatio, perItMax / std::max(perItMin, 1e-12));
 
-    // 2b. Image space against object space (FCL): the same garment, the same iteration cap.
+    // 2b. Image space against object space (the nearest body point): the same garment, the same iteration cap.
     progress("drape: image against object space on %s", b.name.c_str());
     // A garment that settles in both modes: the procedural dress at 3 cm, the paper's 3840-vertex dress on
     // body_hm08 (Vassilev et al. compare image and object space on it).

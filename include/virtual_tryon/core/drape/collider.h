@@ -1,6 +1,6 @@
 // Cloth-body collision tests behind one interface, so the drape does not care how they are found:
 // image space (depth and normal maps, Vassilev et al. 2001 sec. 5) or object space (the body mesh
-// through FCL, the paper's comparison and the accurate mode where the maps see badly).
+// through its box tree, the paper's comparison and the accurate mode where the maps see badly).
 // Both are built from a Body and cached with it; re-rendering per frame for a moving body would
 // only need a new collider.
 #pragma once
@@ -35,7 +35,7 @@ class ImageSpaceCollider final : public BodyCollider {
   std::shared_ptr<const DepthMaps> maps_;
 };
 
-// Nearest body point through FCL; p collides when its signed distance (by the nearest face's
+// Nearest body point (closestPointOnBody); p collides when its signed distance (by the nearest face's
 // normal) is below tol.
 class ObjectSpaceCollider final : public BodyCollider {
  public:

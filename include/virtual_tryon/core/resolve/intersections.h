@@ -1,6 +1,6 @@
-// Edge-face crossings between a garment and a body, in both directions, found through FCL BVHs:
-// FCL reports the pairs of triangles that intersect; each pair's edges are then tested against the
-// other triangle with segmentCrossesTriangle() (edge_face_crossing.h).
+// Edge-face crossings between a garment and a body, in both directions: the body's box tree hands
+// over the (body face, garment face) pairs whose bounding boxes overlap; each pair's edges are then
+// tested against the other triangle with segmentCrossesTriangle() (edge_face_crossing.h).
 #pragma once
 
 #include "virtual_tryon/core/body/body.h"
