@@ -53,8 +53,15 @@ class FaceBoxTree {
     int left = -1, right = -1;  // children; -1 for a leaf
     int first = 0, count = 0;   // leaf: faces order_[first .. first + count)
   };
-  int build(const std::vector<Eigen::Vector3d>& centre, int first, int count, int depth);
-  int sahSplit(const std::vector<Eigen::Vector3d>& centre, int first, int count, int axis, double c0, double c1);
+  // What a build reads and writes besides the tree: each face's centre and, within one split, its
+  // bin.
+  struct Build {
+    std::vector<Eigen::Vector3d> centre;
+    std::vector<unsigned char> bin;
+  };
+  int build(Build& b, std::vector<Node>& nodes, int first, int count, int depth);
+  int fitAndSplit(Build& b, Node& node, int first, int count, int depth);
+  int sahSplit(Build& b, int first, int count, int axis, double c0, double c1);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
   std::vector<Node> nodes_;
   std::vector<int> order_;
