@@ -80,6 +80,7 @@ Body::Body(Body&& previous, MatrixX3d V) {
              std::move(previous.vertex_faces_), previous.bvh_built_ ? std::move(previous.bvh_) : nullptr);
   previous.bvh_built_ = false;
   previous.adjacency_built_ = false;
+  previous.vertex_adjacency_built_ = false;
 }
 
 // The shared part of both frame constructors: the frame's own geometry over the lists of the
@@ -95,6 +96,7 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
   std::call_once(vertex_adjacency_once_, [&] {
     vertex_face_start_ = std::move(vertexFaceStart);
     vertex_faces_ = std::move(vertexFaces);
+    vertex_adjacency_built_ = true;
   });
   computeFrameGeometry();
   if (!tree) return;
@@ -170,7 +172,10 @@ void Body::computeEdgeFirstFaces() const {
     }
 }
 
+// Both build once (std::call_once); once built, a flag read answers without call_once's own cost
+// (a thread-local lookup in a shared library), which the detection pays per garment face.
 void Body::buildAdjacency() const {
+  if (adjacency_built_.load(std::memory_order_acquire)) return;
   std::call_once(adjacency_once_, [this] {
     edges_ = uniqueEdges(mesh_, &face_edges_);
     computeEdgeFirstFaces();
@@ -179,8 +184,10 @@ void Body::buildAdjacency() const {
 }
 
 void Body::buildVertexAdjacency() const {
+  if (vertex_adjacency_built_.load(std::memory_order_acquire)) return;
   std::call_once(vertex_adjacency_once_, [this] {
     facesRoundVertices(mesh_.F, static_cast<int>(mesh_.V.rows()), vertex_face_start_, vertex_faces_);
+    vertex_adjacency_built_ = true;
   });
 }
 

@@ -109,16 +109,22 @@ void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopolog
 
 namespace {
 
-// What testFacePair() needs of garment face gf.
-GarmentFaceContext faceContext(const Body& body, const TriMesh& garment, int gf) {
+// The body's edge lists, taken once for many faces (faceContext).
+GarmentFaceContext bodyContext(const Body& body) {
   GarmentFaceContext g;
+  g.body_edges = &body.edges();
+  g.body_face_edges = &body.faceEdges();
+  g.body_edge_first_face = &body.edgeFirstFaces();
+  return g;
+}
+
+// What testFacePair() needs of garment face gf, over `body` (bodyContext()).
+GarmentFaceContext faceContext(const GarmentFaceContext& body, const TriMesh& garment, int gf) {
+  GarmentFaceContext g = body;
   g.gf = gf;
   for (int k = 0; k < 3; ++k) g.x[k] = row(garment.V, garment.F(gf, k));
   g.gn = (g.x[1] - g.x[0]).cross(g.x[2] - g.x[0]);
   g.gm = kPlaneMargin * g.gn.norm();
-  g.body_edges = &body.edges();
-  g.body_face_edges = &body.faceEdges();
-  g.body_edge_first_face = &body.edgeFirstFaces();
   return g;
 }
 
@@ -142,6 +148,7 @@ constexpr double kRunSpread = 2.5;
 // query per face, in a quarter of the tree's walks.
 void detectRuns(const Body& body, const TriMesh& garment, const GarmentTopology& topo, const FaceBoxTree& tree,
                 int first, int last, CrossingSet& out) {
+  const GarmentFaceContext lists = bodyContext(body);
   std::vector<int> candidates;
   Eigen::Vector3d lo[kRunFaces], hi[kRunFaces];
   for (int start = first; start < last; start += kRunFaces) {
@@ -160,7 +167,7 @@ void detectRuns(const Body& body, const TriMesh& garment, const GarmentTopology&
       tree.overlapping(runLo, runHi, [&](int bf) { candidates.push_back(bf); });
     }
     for (int j = 0; j < n; ++j) {
-      const GarmentFaceContext g = faceContext(body, garment, start + j);
+      const GarmentFaceContext g = faceContext(lists, garment, start + j);
       auto test = [&](int bf) { testFacePair(body, garment, topo, bf, g, out); };
       if (!together) {
         tree.overlapping(lo[j], hi[j], test);
@@ -182,11 +189,12 @@ void detectRange(const Body& body, const TriMesh& garment, const GarmentTopology
     detectRuns(body, garment, topo, tree, first, last, out);
     return;
   }
+  const GarmentFaceContext lists = bodyContext(body);
   for (int i = first; i < last; ++i) {
     const int gf = faces ? (*faces)[static_cast<std::size_t>(i)] : i;
     Eigen::Vector3d lo, hi;
     faceBounds(garment, gf, lo, hi);
-    const GarmentFaceContext g = faceContext(body, garment, gf);
+    const GarmentFaceContext g = faceContext(lists, garment, gf);
     auto test = [&](int bf) { testFacePair(body, garment, topo, bf, g, out); };
     if (!cache) {
       tree.overlapping(lo, hi, test);

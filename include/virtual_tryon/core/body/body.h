@@ -102,6 +102,7 @@ class Body {
   mutable MatrixX3d edge_normals_;
   mutable std::vector<int> edge_first_face_;
   mutable std::once_flag vertex_adjacency_once_;
+  mutable std::atomic<bool> vertex_adjacency_built_{false};
   mutable std::vector<int> vertex_face_start_, vertex_faces_;
   mutable std::once_flag vertex_normals_once_;
   mutable MatrixX3d vertex_normals_;
