@@ -98,10 +98,18 @@ void Body::adoptFrame(MatrixX2i edges, MatrixX3i faceEdges, std::vector<int> ver
     vertex_faces_ = std::move(vertexFaces);
     vertex_adjacency_built_ = true;
   });
-  computeFrameGeometry();
-  if (!tree) return;
+  if (!tree) {
+    computeFrameGeometry();
+    return;
+  }
+  // The volume summed in the refit's pass over the faces (signedVolume's sum, in its order).
   const auto t0 = std::chrono::steady_clock::now();
-  tree->refit(mesh_);
+  double volume = 0;
+  tree->refit(mesh_, [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    volume += tripleProduct(a, b, c);
+  });
+  signed_volume_ = volume / 6.0;
+  boundingBox(mesh_, box_min_, box_max_);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::call_once(bvh_once_, [&] {
     bvh_ = std::move(tree);

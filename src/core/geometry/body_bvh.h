@@ -17,8 +17,12 @@ class BodyBVH {
  public:
   explicit BodyBVH(const TriMesh& mesh) : tree_(mesh) {}
   const FaceBoxTree& faceTree() const { return tree_; }
-  // The same faces on new vertex positions (not while anyone queries the tree).
-  void refit(const TriMesh& mesh) { tree_.refit(mesh.V, mesh.F); }
+  // The same faces on new vertex positions (not while anyone queries the tree); perFace(a, b, c)
+  // sees each face's corners on the way (FaceBoxTree::refit).
+  template <class PerFace>
+  void refit(const TriMesh& mesh, PerFace&& perFace) {
+    tree_.refit(mesh.V, mesh.F, perFace);
+  }
   std::unique_ptr<BodyBVH> copy() const { return std::make_unique<BodyBVH>(*this); }
 
  private:

@@ -153,9 +153,8 @@ int FaceBoxTree::sahSplit(Build& b, int first, int count, int axis, double c0, d
                           (order_.begin() + first));
 }
 
-void FaceBoxTree::refit(const MatrixX3d& V, const MatrixX3i& F) {
-  for (Eigen::Index f = 0; f < F.rows(); ++f) faceBox(V, F, static_cast<int>(f));
-  // Children come after their parent in nodes_, so a backward pass sees them first.
+// Children come after their parent in nodes_, so a backward pass sees them first.
+void FaceBoxTree::refitNodes() {
   for (int id = static_cast<int>(nodes_.size()) - 1; id >= 0; --id) {
     Node& n = nodes_[static_cast<std::size_t>(id)];
     if (n.left >= 0) {

@@ -36,7 +36,13 @@ class FaceBoxTree {
   int nearest(const TriMesh& mesh, const Eigen::Vector3d& p, Eigen::Vector3d& point) const;
 
   // New vertex positions, same faces: every box grown or shrunk to fit (the split stays).
-  void refit(const MatrixX3d& V, const MatrixX3i& F);
+  void refit(const MatrixX3d& V, const MatrixX3i& F) {
+    refit(V, F, [](const Eigen::Vector3d&, const Eigen::Vector3d&, const Eigen::Vector3d&) {});
+  }
+  // The same, calling perFace(a, b, c) with each face's corners, in face order, on the way: one
+  // pass over the faces for both (a moving body sums its volume there).
+  template <class PerFace>
+  void refit(const MatrixX3d& V, const MatrixX3i& F, PerFace&& perFace);
   bool empty() const { return nodes_.empty(); }
   int nodeCount() const { return static_cast<int>(nodes_.size()); }
 
@@ -63,6 +69,7 @@ class FaceBoxTree {
   int fitAndSplit(Build& b, Node& node, int first, int count, int depth);
   int sahSplit(Build& b, int first, int count, int axis, double c0, double c1);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
+  void refitNodes();  // every node to its children's boxes (a leaf: its faces'), bottom up
   std::vector<Node> nodes_;
   std::vector<int> order_;
   struct Box {
@@ -70,6 +77,18 @@ class FaceBoxTree {
   };
   std::vector<Box> box_;  // per face, both corners side by side (one memory fetch per test)
 };
+
+template <class PerFace>
+void FaceBoxTree::refit(const MatrixX3d& V, const MatrixX3i& F, PerFace&& perFace) {
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    Box& box = box_[static_cast<std::size_t>(f)];
+    box.lo = a.cwiseMin(b).cwiseMin(c);
+    box.hi = a.cwiseMax(b).cwiseMax(c);
+    perFace(a, b, c);
+  }
+  refitNodes();
+}
 
 template <class Visit>
 void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit&& visit) const {

@@ -361,7 +361,7 @@ double signedVolume(const TriMesh& mesh) {
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
                           c = mesh.V.row(mesh.F(f, 2));
-    v += a.dot(b.cross(c));
+    v += tripleProduct(a, b, c);
   }
   return v / 6.0;
 }

@@ -115,6 +115,12 @@ std::size_t boundaryLoops(const TriMesh& mesh);
 
 // Signed volume enclosed by the mesh (positive for a closed, outward-oriented mesh).
 double signedVolume(const TriMesh& mesh);
+// a . (b x c), written out (six times the signed volume of the tetrahedron (0, a, b, c)); what
+// signedVolume sums over the faces, in face order.
+inline double tripleProduct(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return a.x() * (b.y() * c.z() - b.z() * c.y()) + a.y() * (b.z() * c.x() - b.x() * c.z()) +
+         a.z() * (b.x() * c.y() - b.y() * c.x());
+}
 
 // Axis-aligned bounds: min and max corner.
 void boundingBox(const TriMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
