@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/geometry/edge_face_crossing.h"
 
+#include "virtual_tryon/core/geometry/mesh.h"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -20,7 +22,7 @@ double edgeVolume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
   const Eigen::Vector3d& u = swap ? q : p;
   const Eigen::Vector3d& v = swap ? p : q;
   const Eigen::Vector3d ad = a - v, bd = b - v, ud = u - v;
-  const double vol = ad.dot(bd.cross(ud));
+  const double vol = ad.dot(crossProduct(bd, ud));
   return swap ? -vol : vol;
 }
 
@@ -29,7 +31,7 @@ double edgeVolume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
 bool segmentCrossesTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                             const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                             const Eigen::Vector3d& p2, EdgeFaceHit* hit) {
-  const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+  const Eigen::Vector3d n = crossProduct(p1 - p0, p2 - p0);
   const double len = n.norm();
   if (!(len > 0)) return false;
   const double sa = n.dot(a - p0), sb = n.dot(b - p0);

@@ -80,7 +80,7 @@ void testFacePair(const Body& body, const TriMesh& garment, const GarmentTopolog
   const Eigen::Vector3d y[3] = {row(BV, BF(bf, 0)), row(BV, BF(bf, 1)), row(BV, BF(bf, 2))};
   const Eigen::Vector3d sy = planeSides(g.gn, g.x[0], y[0], y[1], y[2]);  // body corners to gf
   if (allOneSide(sy, g.gm)) return;
-  const Eigen::Vector3d bn = (y[1] - y[0]).cross(y[2] - y[0]);
+  const Eigen::Vector3d bn = crossProduct(y[1] - y[0], y[2] - y[0]);
   const Eigen::Vector3d sx = planeSides(bn, y[0], g.x[0], g.x[1], g.x[2]);  // garment corners to bf
   const MatrixX3d& GV = garment.V;
   const MatrixX2i& BE = *g.body_edges;
@@ -123,7 +123,7 @@ GarmentFaceContext faceContext(const GarmentFaceContext& body, const TriMesh& ga
   GarmentFaceContext g = body;
   g.gf = gf;
   for (int k = 0; k < 3; ++k) g.x[k] = row(garment.V, garment.F(gf, k));
-  g.gn = (g.x[1] - g.x[0]).cross(g.x[2] - g.x[0]);
+  g.gn = crossProduct(g.x[1] - g.x[0], g.x[2] - g.x[0]);
   g.gm = kPlaneMargin * g.gn.norm();
   return g;
 }

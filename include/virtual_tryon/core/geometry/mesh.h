@@ -115,6 +115,11 @@ std::size_t boundaryLoops(const TriMesh& mesh);
 
 // Signed volume enclosed by the mesh (positive for a closed, outward-oriented mesh).
 double signedVolume(const TriMesh& mesh);
+// u x v, by the formula of Eigen's cross() (the same values to the bit), always inlined: Eigen's
+// cross of two difference expressions is a call of its own in the detection's inner loops.
+inline Eigen::Vector3d crossProduct(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return Eigen::Vector3d(u.y() * v.z() - u.z() * v.y(), u.z() * v.x() - u.x() * v.z(), u.x() * v.y() - u.y() * v.x());
+}
 // a . (b x c), written out (six times the signed volume of the tetrahedron (0, a, b, c)); what
 // signedVolume sums over the faces, in face order.
 inline double tripleProduct(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
