@@ -88,26 +88,55 @@ FaceBoxTree::FaceBoxTree(const TriMesh& mesh) {
   }
   order_.resize(static_cast<std::size_t>(nf));
   std::iota(order_.begin(), order_.end(), 0);
-  nodes_.reserve(2 * static_cast<std::size_t>(nf));  // at most 2 nf - 1 nodes, whatever the splits
-  build(b, nodes_, 0, nf, 0);
+  std::vector<Split> splits;
+  splits.reserve(2 * static_cast<std::size_t>(nf));  // at most 2 nf - 1 nodes, whatever the splits
+  build(b, splits, 0, nf, 0);
+  nodes_.reserve(splits.size() / 2 + 1);
+  if (splits[0].left >= 0) {
+    adopt(splits, 0);
+  } else {  // one leaf: a root with it as its one child
+    Node root;
+    root.child[0] = -splits[0].first - 1;
+    root.count[0] = splits[0].count;
+    nodes_.push_back(root);
+  }
+  refitNodes();
 }
 
-// Node `id` of `nodes` over order_[first .. first + count), then its subtrees after it.
-int FaceBoxTree::build(Build& b, std::vector<Node>& nodes, int first, int count, int depth) {
-  const int id = static_cast<int>(nodes.size());
-  nodes.emplace_back();
-  const int half = fitAndSplit(b, nodes[static_cast<std::size_t>(id)], first, count, depth);
+// The walks' node for inner split s, then those of its inner children (depth first, as built).
+int FaceBoxTree::adopt(const std::vector<Split>& splits, int s) {
+  const int id = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  const int children[2] = {splits[static_cast<std::size_t>(s)].left, splits[static_cast<std::size_t>(s)].right};
+  for (int k = 0; k < 2; ++k) {
+    const Split& c = splits[static_cast<std::size_t>(children[k])];
+    if (c.left < 0) {
+      nodes_[static_cast<std::size_t>(id)].child[k] = -c.first - 1;
+      nodes_[static_cast<std::size_t>(id)].count[k] = c.count;
+    } else {
+      const int inner = adopt(splits, children[k]);
+      nodes_[static_cast<std::size_t>(id)].child[k] = inner;
+    }
+  }
+  return id;
+}
+
+// Split `id` of `splits` over order_[first .. first + count), then its subtrees after it.
+int FaceBoxTree::build(Build& b, std::vector<Split>& splits, int first, int count, int depth) {
+  const int id = static_cast<int>(splits.size());
+  splits.emplace_back();
+  const int half = fitAndSplit(b, splits[static_cast<std::size_t>(id)], first, count, depth);
   if (half == 0) return id;
-  const int left = build(b, nodes, first, half, depth + 1);
-  const int right = build(b, nodes, first + half, count - half, depth + 1);
-  nodes[static_cast<std::size_t>(id)].left = left;
-  nodes[static_cast<std::size_t>(id)].right = right;
+  const int left = build(b, splits, first, half, depth + 1);
+  const int right = build(b, splits, first + half, count - half, depth + 1);
+  splits[static_cast<std::size_t>(id)].left = left;
+  splits[static_cast<std::size_t>(id)].right = right;
   return id;
 }
 
 // Fits `node` to the faces order_[first .. first + count); a leaf (up to kLeafFaces faces, or at
 // kMaxDepth) keeps them and 0 is returned, else they are split (sahSplit) and the left count is.
-int FaceBoxTree::fitAndSplit(Build& b, Node& node, int first, int count, int depth) {
+int FaceBoxTree::fitAndSplit(Build& b, Split& node, int first, int count, int depth) {
   node.lo = box_[order_[first]].lo;
   node.hi = box_[order_[first]].hi;
   Eigen::Vector3d clo = b.centre[order_[first]], chi = clo;
@@ -157,51 +186,62 @@ int FaceBoxTree::sahSplit(Build& b, int first, int count, int axis, double c0, d
 void FaceBoxTree::refitNodes() {
   for (int id = static_cast<int>(nodes_.size()) - 1; id >= 0; --id) {
     Node& n = nodes_[static_cast<std::size_t>(id)];
-    if (n.left >= 0) {
-      n.lo = nodes_[n.left].lo.cwiseMin(nodes_[n.right].lo);
-      n.hi = nodes_[n.left].hi.cwiseMax(nodes_[n.right].hi);
-      continue;
-    }
-    n.lo = box_[order_[n.first]].lo;
-    n.hi = box_[order_[n.first]].hi;
-    for (int i = n.first + 1; i < n.first + n.count; ++i) {
-      n.lo = n.lo.cwiseMin(box_[order_[i]].lo);
-      n.hi = n.hi.cwiseMax(box_[order_[i]].hi);
+    for (int k = 0; k < 2; ++k) {
+      if (n.child[k] >= 0) {
+        const Node& c = nodes_[static_cast<std::size_t>(n.child[k])];
+        n.lo[k] = c.lo[0].cwiseMin(c.lo[1]);
+        n.hi[k] = c.hi[0].cwiseMax(c.hi[1]);
+        continue;
+      }
+      n.lo[k] = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+      n.hi[k] = -n.lo[k];
+      for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
+        const Box& b = box_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
+        n.lo[k] = n.lo[k].cwiseMin(b.lo);
+        n.hi[k] = n.hi[k].cwiseMax(b.hi);
+      }
     }
   }
 }
 
+// Branch and bound: each child's box distance is taken at its parent, and the nearer child is
+// searched first (the left on a tie); a child no nearer than the best face so far is passed over.
 int FaceBoxTree::nearest(const TriMesh& mesh, const Eigen::Vector3d& p, Eigen::Vector3d& point) const {
   if (nodes_.empty()) return -1;
+  struct Entry {
+    int child, count;
+    double d;
+  };
   int best = -1;
   double bestD = std::numeric_limits<double>::infinity();
-  int stack[128];
+  Entry stack[128];
   int top = 0;
-  stack[top++] = 0;
+  auto pushChildren = [&](const Node& n) {
+    const double dl = boxDistance2(n.lo[0], n.hi[0], p), dr = boxDistance2(n.lo[1], n.hi[1], p);
+    const int nearer = dl <= dr ? 0 : 1;
+    stack[top++] = {n.child[1 - nearer], n.count[1 - nearer], nearer == 0 ? dr : dl};
+    stack[top++] = {n.child[nearer], n.count[nearer], nearer == 0 ? dl : dr};
+  };
+  pushChildren(nodes_[0]);
   while (top > 0) {
-    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    if (boxDistance2(n.lo, n.hi, p) >= bestD) continue;
-    if (n.left < 0) {
-      for (int i = n.first; i < n.first + n.count; ++i) {
-        const int f = order_[static_cast<std::size_t>(i)];
-        const Eigen::Vector3d q = closestPointOnTriangle(p, mesh.V.row(mesh.F(f, 0)).transpose(),
-                                                         mesh.V.row(mesh.F(f, 1)).transpose(),
-                                                         mesh.V.row(mesh.F(f, 2)).transpose());
-        const double d = (q - p).squaredNorm();
-        if (d < bestD) {
-          bestD = d;
-          best = f;
-          point = q;
-        }
-      }
+    const Entry e = stack[--top];
+    if (e.d >= bestD) continue;
+    if (e.child >= 0) {
+      pushChildren(nodes_[static_cast<std::size_t>(e.child)]);
       continue;
     }
-    // The nearer child last, so it is searched first.
-    const Node& l = nodes_[static_cast<std::size_t>(n.left)];
-    const Node& r = nodes_[static_cast<std::size_t>(n.right)];
-    const bool leftNearer = boxDistance2(l.lo, l.hi, p) <= boxDistance2(r.lo, r.hi, p);
-    stack[top++] = leftNearer ? n.right : n.left;
-    stack[top++] = leftNearer ? n.left : n.right;
+    for (int i = -e.child - 1, end = i + e.count; i < end; ++i) {
+      const int f = order_[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d q = closestPointOnTriangle(p, mesh.V.row(mesh.F(f, 0)).transpose(),
+                                                       mesh.V.row(mesh.F(f, 1)).transpose(),
+                                                       mesh.V.row(mesh.F(f, 2)).transpose());
+      const double d = (q - p).squaredNorm();
+      if (d < bestD) {
+        bestD = d;
+        best = f;
+        point = q;
+      }
+    }
   }
   return best;
 }

@@ -44,7 +44,6 @@ class FaceBoxTree {
   template <class PerFace>
   void refit(const MatrixX3d& V, const MatrixX3i& F, PerFace&& perFace);
   bool empty() const { return nodes_.empty(); }
-  int nodeCount() const { return static_cast<int>(nodes_.size()); }
 
   // Whether face f's bounding box, as the tree holds it (as built or last refitted), overlaps the
   // closed box [lo, hi].
@@ -54,10 +53,21 @@ class FaceBoxTree {
   }
 
  private:
-  struct Node {
+  // The binary tree as the build makes it, depth first (a node's children after it).
+  struct Split {
     Eigen::Vector3d lo, hi;
     int left = -1, right = -1;  // children; -1 for a leaf
     int first = 0, count = 0;   // leaf: faces order_[first .. first + count)
+  };
+  // The tree as the walks read it: each inner node of the build holds both of its children's
+  // boxes, so that a walk tests both with one fetch and never fetches a child whose box it misses.
+  // Child k: child[k] >= 0 an inner node; else a leaf of count[k] faces, order_[-child[k] - 1 ..]
+  // (count 0: no child, in the root of a tree of one leaf; its box is empty, lo above hi).
+  struct Node {
+    Eigen::Vector3d lo[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    Eigen::Vector3d hi[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    int child[2] = {-1, -1};
+    int count[2] = {0, 0};
   };
   // What a build reads and writes besides the tree: each face's centre and, within one split, its
   // bin.
@@ -65,11 +75,19 @@ class FaceBoxTree {
     std::vector<Eigen::Vector3d> centre;
     std::vector<unsigned char> bin;
   };
-  int build(Build& b, std::vector<Node>& nodes, int first, int count, int depth);
-  int fitAndSplit(Build& b, Node& node, int first, int count, int depth);
+  int build(Build& b, std::vector<Split>& splits, int first, int count, int depth);
+  int fitAndSplit(Build& b, Split& node, int first, int count, int depth);
   int sahSplit(Build& b, int first, int count, int axis, double c0, double c1);
+  int adopt(const std::vector<Split>& splits, int s);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
-  void refitNodes();  // every node to its children's boxes (a leaf: its faces'), bottom up
+  void refitNodes();  // every node's child boxes to their faces' boxes, bottom up
+  template <class Visit>
+  void visitLeaf(const Node& n, int k, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit& visit) const {
+    for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
+      const int f = order_[static_cast<std::size_t>(i)];
+      if (faceOverlaps(f, lo, hi)) visit(f);
+    }
+  }
   std::vector<Node> nodes_;
   std::vector<int> order_;
   struct Box {
@@ -98,15 +116,12 @@ void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    if ((n.lo.array() > hi.array()).any() || (lo.array() > n.hi.array()).any()) continue;
-    if (n.left >= 0) {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
-      continue;
-    }
-    for (int i = n.first; i < n.first + n.count; ++i) {
-      const int f = order_[static_cast<std::size_t>(i)];
-      if (faceOverlaps(f, lo, hi)) visit(f);
+    for (int k = 0; k < 2; ++k) {
+      if ((n.lo[k].array() > hi.array()).any() || (lo.array() > n.hi[k].array()).any()) continue;
+      if (n.child[k] >= 0)
+        stack[top++] = n.child[k];
+      else
+        visitLeaf(n, k, lo, hi, visit);
     }
   }
 }
@@ -136,16 +151,17 @@ void FaceBoxTree::alongSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& 
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    if (!segmentMeetsBox(p, invD, n.lo, n.hi)) continue;
-    if (n.left >= 0) {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
-      continue;
-    }
-    for (int i = n.first; i < n.first + n.count; ++i) {
-      const int f = order_[static_cast<std::size_t>(i)];
-      const Box& b = box_[static_cast<std::size_t>(f)];
-      if (segmentMeetsBox(p, invD, b.lo, b.hi)) visit(f);
+    for (int k = 0; k < 2; ++k) {
+      if ((n.child[k] < 0 && n.count[k] == 0) || !segmentMeetsBox(p, invD, n.lo[k], n.hi[k])) continue;
+      if (n.child[k] >= 0) {
+        stack[top++] = n.child[k];
+        continue;
+      }
+      for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
+        const int f = order_[static_cast<std::size_t>(i)];
+        const Box& b = box_[static_cast<std::size_t>(f)];
+        if (segmentMeetsBox(p, invD, b.lo, b.hi)) visit(f);
+      }
     }
   }
 }
