@@ -81,13 +81,10 @@ class FaceBoxTree {
   int adopt(const std::vector<Split>& splits, int s);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
   void refitNodes();  // every node's child boxes to their faces' boxes, bottom up
-  template <class Visit>
-  void visitLeaf(const Node& n, int k, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit& visit) const {
-    for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
-      const int f = order_[static_cast<std::size_t>(i)];
-      if (faceOverlaps(f, lo, hi)) visit(f);
-    }
-  }
+  // Depth first from the root: a child whose box meets(lo, hi) is entered (an inner node) or has
+  // each of its faces whose box meets(...) visited (a leaf). meets must refuse the empty box.
+  template <class Meets, class Visit>
+  void walk(Meets& meets, Visit& visit) const;
   std::vector<Node> nodes_;
   std::vector<int> order_;
   struct Box {
@@ -108,8 +105,8 @@ void FaceBoxTree::refit(const MatrixX3d& V, const MatrixX3i& F, PerFace&& perFac
   refitNodes();
 }
 
-template <class Visit>
-void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit&& visit) const {
+template <class Meets, class Visit>
+void FaceBoxTree::walk(Meets& meets, Visit& visit) const {
   if (nodes_.empty()) return;
   int stack[128];
   int top = 0;
@@ -117,13 +114,26 @@ void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
     for (int k = 0; k < 2; ++k) {
-      if ((n.lo[k].array() > hi.array()).any() || (lo.array() > n.hi[k].array()).any()) continue;
-      if (n.child[k] >= 0)
+      if (!meets(n.lo[k], n.hi[k])) continue;
+      if (n.child[k] >= 0) {
         stack[top++] = n.child[k];
-      else
-        visitLeaf(n, k, lo, hi, visit);
+        continue;
+      }
+      for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
+        const int f = order_[static_cast<std::size_t>(i)];
+        const Box& b = box_[static_cast<std::size_t>(f)];
+        if (meets(b.lo, b.hi)) visit(f);
+      }
     }
   }
+}
+
+template <class Visit>
+void FaceBoxTree::overlapping(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit&& visit) const {
+  auto meets = [&](const Eigen::Vector3d& blo, const Eigen::Vector3d& bhi) {
+    return (blo.array() <= hi.array()).all() && (lo.array() <= bhi.array()).all();
+  };
+  walk(meets, visit);
 }
 
 namespace face_box_tree_detail {
@@ -144,26 +154,10 @@ inline bool segmentMeetsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& inv
 
 template <class Visit>
 void FaceBoxTree::alongSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& invD, Visit&& visit) const {
-  using face_box_tree_detail::segmentMeetsBox;
-  if (nodes_.empty()) return;
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    for (int k = 0; k < 2; ++k) {
-      if ((n.child[k] < 0 && n.count[k] == 0) || !segmentMeetsBox(p, invD, n.lo[k], n.hi[k])) continue;
-      if (n.child[k] >= 0) {
-        stack[top++] = n.child[k];
-        continue;
-      }
-      for (int i = -n.child[k] - 1, end = i + n.count[k]; i < end; ++i) {
-        const int f = order_[static_cast<std::size_t>(i)];
-        const Box& b = box_[static_cast<std::size_t>(f)];
-        if (segmentMeetsBox(p, invD, b.lo, b.hi)) visit(f);
-      }
-    }
-  }
+  auto meets = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    return lo.x() <= hi.x() && face_box_tree_detail::segmentMeetsBox(p, invD, lo, hi);  // not the empty box
+  };
+  walk(meets, visit);
 }
 
 }  // namespace virtual_tryon
