@@ -773,8 +773,8 @@ int animateResolve(const std::map<std::string, std::string>& opt) {
       .add("jitter_max_unforced_m", jitterMaxUnforced)
       .add("body_trees_refitted", refitted)
       .add("body_trees_built", ms.size() - refitted)
-      .add("rebuilt_per_frame", std::string("body normals, bounds, volume"))
-      .add("reused", std::string("body topology, edge and vertex-face lists; face trees refitted"));
+      .add("rebuilt_per_frame", std::string("body bounds and volume (face, edge and vertex normals when asked for)"))
+      .add("reused", std::string("body topology, edge and vertex-face lists; the face tree refitted"));
   if (check) summary.add("frames_with_referee_findings", refereeDirty);
   std::cout << vt::json::Obj().json("summary", summary.str()).str() << std::endl;
   return notConverged == 0 && refereeDirty == 0 ? 0 : 3;
