@@ -35,12 +35,9 @@ class FaceBoxTree {
   // equal distance: the first found). `mesh` is the mesh the tree was built over. -1 when empty.
   int nearest(const TriMesh& mesh, const Eigen::Vector3d& p, Eigen::Vector3d& point) const;
 
-  // New vertex positions, same faces: every box grown or shrunk to fit (the split stays).
-  void refit(const MatrixX3d& V, const MatrixX3i& F) {
-    refit(V, F, [](const Eigen::Vector3d&, const Eigen::Vector3d&, const Eigen::Vector3d&) {});
-  }
-  // The same, calling perFace(a, b, c) with each face's corners, in face order, on the way: one
-  // pass over the faces for both (a moving body sums its volume there).
+  // New vertex positions, same faces: every box grown or shrunk to fit (the split stays), calling
+  // perFace(a, b, c) with each face's corners, in face order, on the way (one pass over the faces
+  // for both: a moving body sums its volume there).
   template <class PerFace>
   void refit(const MatrixX3d& V, const MatrixX3i& F, PerFace&& perFace);
   bool empty() const { return nodes_.empty(); }
