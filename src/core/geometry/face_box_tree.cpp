@@ -125,7 +125,7 @@ int FaceBoxTree::adopt(const std::vector<Split>& splits, int s) {
 int FaceBoxTree::build(Build& b, std::vector<Split>& splits, int first, int count, int depth) {
   const int id = static_cast<int>(splits.size());
   splits.emplace_back();
-  const int half = fitAndSplit(b, splits[static_cast<std::size_t>(id)], first, count, depth);
+  const int half = splitOrLeaf(b, splits[static_cast<std::size_t>(id)], first, count, depth);
   if (half == 0) return id;
   const int left = build(b, splits, first, half, depth + 1);
   const int right = build(b, splits, first + half, count - half, depth + 1);
@@ -134,23 +134,20 @@ int FaceBoxTree::build(Build& b, std::vector<Split>& splits, int first, int coun
   return id;
 }
 
-// Fits `node` to the faces order_[first .. first + count); a leaf (up to kLeafFaces faces, or at
-// kMaxDepth) keeps them and 0 is returned, else they are split (sahSplit) and the left count is.
-int FaceBoxTree::fitAndSplit(Build& b, Split& node, int first, int count, int depth) {
-  node.lo = box_[order_[first]].lo;
-  node.hi = box_[order_[first]].hi;
-  Eigen::Vector3d clo = b.centre[order_[first]], chi = clo;
-  for (int i = first + 1; i < first + count; ++i) {
-    const int f = order_[static_cast<std::size_t>(i)];
-    node.lo = node.lo.cwiseMin(box_[f].lo);
-    node.hi = node.hi.cwiseMax(box_[f].hi);
-    clo = clo.cwiseMin(b.centre[f]);
-    chi = chi.cwiseMax(b.centre[f]);
-  }
+// The faces order_[first .. first + count): a leaf (up to kLeafFaces faces, or at kMaxDepth)
+// keeps them in `node` and 0 is returned, else they are split (sahSplit) and the left count is.
+// The boxes are fitted once the tree is built (refitNodes).
+int FaceBoxTree::splitOrLeaf(Build& b, Split& node, int first, int count, int depth) {
   if (count <= kLeafFaces || depth == kMaxDepth) {
     node.first = first;
     node.count = count;
     return 0;
+  }
+  Eigen::Vector3d clo = b.centre[order_[first]], chi = clo;
+  for (int i = first + 1; i < first + count; ++i) {
+    const int f = order_[static_cast<std::size_t>(i)];
+    clo = clo.cwiseMin(b.centre[f]);
+    chi = chi.cwiseMax(b.centre[f]);
   }
   int axis = 0;
   (chi - clo).maxCoeff(&axis);

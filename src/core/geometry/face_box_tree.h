@@ -50,9 +50,9 @@ class FaceBoxTree {
   }
 
  private:
-  // The binary tree as the build makes it, depth first (a node's children after it).
+  // The binary tree as the build makes it, depth first (a node's children after it); its boxes
+  // are the walks' nodes' (refitNodes).
   struct Split {
-    Eigen::Vector3d lo, hi;
     int left = -1, right = -1;  // children; -1 for a leaf
     int first = 0, count = 0;   // leaf: faces order_[first .. first + count)
   };
@@ -73,7 +73,7 @@ class FaceBoxTree {
     std::vector<unsigned char> bin;
   };
   int build(Build& b, std::vector<Split>& splits, int first, int count, int depth);
-  int fitAndSplit(Build& b, Split& node, int first, int count, int depth);
+  int splitOrLeaf(Build& b, Split& node, int first, int count, int depth);
   int sahSplit(Build& b, int first, int count, int axis, double c0, double c1);
   int adopt(const std::vector<Split>& splits, int s);
   void faceBox(const MatrixX3d& V, const MatrixX3i& F, int f);
