@@ -303,9 +303,12 @@ class ShapeRelaxation {
   // too (a step back near the end leaves single edges torn between a vertex that stepped back and
   // one that did not), the contacts kept, each pass checked for crossings like a sweep.
   void polish(double strain) {
-    sweep_ = std::numeric_limits<int>::max() / 2;  // nothing is held any more
+    sweep_ = std::numeric_limits<int>::max() / 2;
     for (int pass = 0; pass < std::max(1, p_.polish_passes) && !active_.empty(); ++pass) {
-      for (int v : active_) clean_[v] = g_.V.row(v);
+      for (int v : active_) {
+        clean_[v] = g_.V.row(v);
+        held_[v] = 0;  // nothing is held in a polish, not even what stepped back in the pass before
+      }
       if (p_.polish_passes > 0) limitStrain(strain);
       projectContacts();
       verify(p_.check_distance);
