@@ -10,6 +10,7 @@
 #include "virtual_tryon/core/scenes/procedural_animation.h"
 #include "virtual_tryon/testing/reference_check.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -226,4 +227,57 @@ TEST(TemporalCoherence, TheBackwardPassLeavesFramesOfOtherSizesAlone) {
       resolved, {b.input, b.input}, b.scene.garment.F, [&](int) -> const Body& { return body; }, {0.0});
   EXPECT_FALSE(few.message.empty());
   EXPECT_EQ(resolved[0], b.resolved);
+}
+
+// A vertex whose previous correction lies 1 cm sideways (along the body, nothing in the way):
+// holding it within 3 mm of that would stretch its edges far past what the resolver left. With
+// the default max_strain (0.2) it moves only as far as its edges stay within max(0.2, their
+// strain as resolved), and is counted as partly moved; with max_strain 0 (no shape check) it goes
+// all the way and strains an edge past that. Both frames stay clean by the referee.
+TEST(TemporalCoherence, AMoveThatWouldTearAnEdgeStopsAtTheStrainLimit) {
+  const ResolveScene scene = makeWrinkledTubeScene();
+  const Body body(scene.body);
+  const MatrixX3d input = scene.garment.V;
+  TriMesh resolved{input, scene.garment.F};
+  const ResolverReport rep = resolvePenetrations(body, resolved, ResolverParams());
+  ASSERT_TRUE(rep.converged);
+  const int v = static_cast<int>(input.rows() / 2);
+  const ClosestPoint cp = closestPointOnBody(body, resolved.V.row(v).transpose());
+  const Eigen::Vector3d n = body.faceNormals().row(cp.face).transpose();
+  const Eigen::Vector3d side = n.unitOrthogonal();  // along the body's surface there
+  MatrixX3d previous = resolved.V - input;
+  previous.row(v) += 0.01 * side.transpose();
+  auto strainAt = [&](const MatrixX3d& V) {  // the largest strain of v's edges against the input
+    double largest = 0;
+    for (Eigen::Index f = 0; f < scene.garment.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = scene.garment.F(f, k), b = scene.garment.F(f, (k + 1) % 3);
+        if (a != v && b != v) continue;
+        const double l0 = (input.row(a) - input.row(b)).norm();
+        largest = std::max(largest, std::abs((V.row(a) - V.row(b)).norm() / l0 - 1));
+      }
+    return largest;
+  };
+  const double asResolved = strainAt(resolved.V);
+  ASSERT_LT(asResolved, 0.2);
+  CoherenceParams guarded;
+  guarded.min_clearance = 0.5 * rep.clearance;
+  CoherenceParams unguarded = guarded;
+  unguarded.max_strain = 0;
+  TriMesh kept = resolved, torn = resolved;
+  const CoherenceReport k = limitCorrectionChange(body, kept, input, previous, guarded);
+  const CoherenceReport t = limitCorrectionChange(body, torn, input, previous, unguarded);
+  std::printf("strain at the vertex: %.3f as resolved, %.3f guarded (%zu refusals), %.3f unguarded\n", asResolved,
+              strainAt(kept.V), k.strain_refusals, strainAt(torn.V));
+  ASSERT_EQ(t.limited, 1u);  // the premise: without the shape check the whole move is clean
+  EXPECT_GT(strainAt(torn.V), 0.3);
+  EXPECT_EQ(k.candidates, 1u);
+  EXPECT_EQ(k.partly, 1u);
+  EXPECT_GT(k.strain_refusals, 0u);
+  EXPECT_LE(strainAt(kept.V), 0.2 + 1e-9);
+  EXPECT_GT(strainAt(kept.V), asResolved);  // it did move part of the way
+  for (const TriMesh* g : {&kept, &torn}) {
+    const ReferenceCounts c = referenceCounts(body.mesh(), *g, body.closed());
+    EXPECT_EQ(c.garment_edge_crossings + c.body_edge_crossings + c.vertices_inside, 0u);
+  }
 }

@@ -17,16 +17,30 @@ double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d
   return V.rows() ? ((V - input) - previous).rowwise().norm().maxCoeff() : 0.0;
 }
 
-// A patch of vertices where they are now keeps the frame clean: their faces and edges cross
-// nothing, none is inside the body, and each is at least its floor from it.
+// |l / l0 - 1| of edge (a, b) at positions `at` against `input`; 0 for an edge of length 0 there.
+double edgeStrain(const MatrixX3d& input, const MatrixX3d& at, int a, int b) {
+  const double l0 = (input.row(a) - input.row(b)).norm();
+  return l0 > 0 ? std::abs((at.row(a) - at.row(b)).norm() / l0 - 1) : 0.0;
+}
+
+// A patch of vertices where they are now keeps the frame clean and its shape: no edge of the patch
+// is strained (against the input) past max(maxStrain, its strain as resolved), their faces and
+// edges cross nothing, none is inside the body, and each is at least its floor from it.
 class MoveCheck {
  public:
-  MoveCheck(const Body& body, const TriMesh& garment, const std::shared_ptr<const GarmentConnectivity>& given)
-      : body_(body), garment_(garment), connectivity_(resolver_run::connectivityFor(garment, given)),
-        topo_(connectivity_->topo), graph_(connectivity_->graph) {
+  MoveCheck(const Body& body, const TriMesh& garment, const MatrixX3d& input, const MatrixX3d& resolved,
+            double maxStrain, const std::shared_ptr<const GarmentConnectivity>& given)
+      : body_(body), garment_(garment), input_(input), resolved_(resolved), max_strain_(maxStrain),
+        connectivity_(resolver_run::connectivityFor(garment, given)), topo_(connectivity_->topo),
+        graph_(connectivity_->graph) {
     mark_.assign(static_cast<std::size_t>(garment.F.rows()), 0);
   }
+  std::size_t strainRefusals() const { return strain_refusals_; }
   bool clean(const std::vector<int>& patch, const std::vector<double>& floors) {
+    if (!keepsShape(patch)) {
+      ++strain_refusals_;
+      return false;
+    }
     around_.clear();
     for (int v : patch)
       for (int i = graph_.vf_start[static_cast<std::size_t>(v)]; i < graph_.vf_start[static_cast<std::size_t>(v) + 1]; ++i) {
@@ -51,8 +65,24 @@ class MoveCheck {
   const resolver_run::GarmentGraph& graph() const { return graph_; }
 
  private:
+  // No edge at a vertex of the patch strained past max(max_strain_, its strain as resolved).
+  bool keepsShape(const std::vector<int>& patch) const {
+    if (!(max_strain_ > 0)) return true;
+    for (int v : patch)
+      for (int i = graph_.adj_start[static_cast<std::size_t>(v)]; i < graph_.adj_start[static_cast<std::size_t>(v) + 1]; ++i) {
+        const int j = graph_.adj_v[static_cast<std::size_t>(i)];
+        const double now = edgeStrain(input_, garment_.V, v, j);
+        if (now > max_strain_ && now > edgeStrain(input_, resolved_, v, j) * (1 + 1e-9)) return false;
+      }
+    return true;
+  }
+
   const Body& body_;
   const TriMesh& garment_;
+  const MatrixX3d& input_;
+  const MatrixX3d& resolved_;
+  const double max_strain_;
+  std::size_t strain_refusals_ = 0;
   std::shared_ptr<const GarmentConnectivity> connectivity_;
   const GarmentTopology& topo_;
   const resolver_run::GarmentGraph& graph_;  // the faces round each vertex, the neighbours over edges
@@ -118,7 +148,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     if (((garment.V.row(v) - input.row(v)) - previousCorrection.row(v)).norm() > limit) over.push_back(static_cast<int>(v));
   rep.candidates = over.size();
   const MatrixX3d resolved = garment.V;
-  MoveCheck check(body, garment, params.connectivity);
+  MoveCheck check(body, garment, input, resolved, params.max_strain, params.connectivity);
   Patches patches(check.graph());
   // Per vertex: the clearance it keeps when it moves (the limit, or as far as it was if nearer);
   // -1 until it first moves.
@@ -188,6 +218,7 @@ CoherenceReport limitCorrectionChange(const Body& body, TriMesh& garment, const 
     rep.change_after = std::max(rep.change_after, change(v));
     if (!forced[static_cast<std::size_t>(v)]) rep.change_after_unforced = std::max(rep.change_after_unforced, change(v));
   }
+  rep.strain_refusals = check.strainRefusals();
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

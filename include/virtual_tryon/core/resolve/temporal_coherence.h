@@ -8,7 +8,8 @@
 // correction changed by more than max_change since the previous frame, moves it towards its
 // previous correction, to a change of max_change, where that keeps the frame clean: none of the
 // vertex's faces or edges crosses the body, the vertex is not inside it, and it stays at least
-// min_clearance from it (or as far as it was, if nearer). Otherwise it takes the largest clean part
+// min_clearance from it (or as far as it was, if nearer); and the move keeps the shape: none of the
+// vertex's edges is strained past max_strain (or past its strain as resolved, if more). Otherwise it takes the largest clean part
 // of that move, found by bisection; otherwise it stays where the resolver put it. The frame stays correct on its own
 // (every move is checked against this frame's body); only the choice among clean positions follows
 // the previous frame.
@@ -34,6 +35,11 @@ struct CoherenceParams {
   double min_clearance = 0;    // m: a moved vertex keeps at least this from the body
   int passes = 3;              // over the vertices still over max_change (a neighbour's move may free one)
   int bisections = 5;          // bisections for the largest clean part of a move that does not keep the frame clean
+  // A move may not strain an edge at a moved vertex (|l / l0 - 1| against the frame's input) past
+  // this, unless the resolver had already strained it more (then not past that): holding a vertex
+  // near its previous correction must not tear its edges (0: no such check). The resolver's own
+  // polish bound.
+  double max_strain = 0.2;
   // Rings of neighbours that move with a vertex, each the same fraction of its own way to its
   // previous correction (0: the vertex alone). The patch's shape then lies between the two
   // frames' resolved shapes, where a vertex moved alone would stand out of its neighbours.
@@ -59,6 +65,7 @@ struct CoherenceReport {
   // position is outside it, so none is within max_change of the previous correction.
   std::size_t forced_by_input = 0;
   double change_after_unforced = 0;  // m: change_after over the vertices not forced
+  std::size_t strain_refusals = 0;   // moves tried and refused because they would strain an edge past max_strain
   double seconds = 0;
   std::string message;         // why nothing was done (sizes), else empty
 };
