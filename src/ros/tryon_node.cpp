@@ -129,8 +129,8 @@ std::string TryonNode::frameOf(const pcl_msgs::PolygonMesh& msg) {
 }
 
 // ~objective: "smooth" (default: the rounds, then the shape relaxation) or "paper" (the rounds
-// alone); ~relaxation/max_sweeps, strain_limit, local_rotations, polish_strain and
-// fine_polish_strain tune the relaxation.
+// alone); ~relaxation/max_sweeps, local_max_sweeps, strain_limit, local_rotations, polish_strain
+// and fine_polish_strain tune the relaxation.
 void TryonNode::readObjective(ResolverParams& p) {
   const ResolverParams d;
   std::string objective;
@@ -144,6 +144,7 @@ void TryonNode::readObjective(ResolverParams& p) {
     p.objective = ResolverObjective::Smooth;
   }
   p.relaxation.max_sweeps = readCount(pnh_, "relaxation/max_sweeps", d.relaxation.max_sweeps);
+  p.relaxation.local_max_sweeps = readCount(pnh_, "relaxation/local_max_sweeps", d.relaxation.local_max_sweeps);
   p.relaxation.strain_limit = readDouble(pnh_, "relaxation/strain_limit", d.relaxation.strain_limit, false);
   pnh_.param("relaxation/local_rotations", p.relaxation.local_rotations, d.relaxation.local_rotations);
   p.relaxation.polish_strain = readDouble(pnh_, "relaxation/polish_strain", d.relaxation.polish_strain, false);

@@ -52,7 +52,8 @@ class ShapeRelaxation {
     turnEdges();
     rep_.seconds_setup = seconds(t0);
     const int perCheck = std::max(1, p_.sweeps_per_check);
-    for (int s = 0; s < p_.max_sweeps && !active_.empty(); ++s) {
+    const int sweeps = p_.local && p_.local_max_sweeps > 0 ? p_.local_max_sweeps : p_.max_sweeps;
+    for (int s = 0; s < sweeps && !active_.empty(); ++s) {
       if (p_.time_budget > 0 && seconds(t0) >= p_.time_budget) break;
       sweep_ = s;
       if (s % perCheck == 0) {
@@ -64,7 +65,7 @@ class ShapeRelaxation {
       projectContacts();
       ++rep_.sweeps;
       const bool settled = rep_.last_step < p_.tolerance;
-      if ((s + 1) % perCheck == 0 || settled || s + 1 == p_.max_sweeps) verify(p_.check_distance);
+      if ((s + 1) % perCheck == 0 || settled || s + 1 == sweeps) verify(p_.check_distance);
       if (settled) break;
     }
     // Every vertex that moved, checked once more however little it moved since its last check;

@@ -113,6 +113,11 @@ struct ShapeRelaxationParams {
   std::vector<int> seeds;
   double local_seed_strain = 0.1;
   int local_rings = 3;
+  // The sweeps of a local relaxation (0: max_sweeps). It starts from the frame before's relaxed
+  // shape, moved by the motion, and its few hundred vertices take a few sweeps: on the walk, 6
+  // instead of 18 took the jeans' warm frame from 3.2 to 2.7 ms (female T-shirt 3.0 to 2.6) with
+  // the largest strain and the p99 within 0.01 of 18's and every frame clean.
+  int local_max_sweeps = 6;
   MatrixX3d local_previous_input, local_previous_result;
   double local_seed_growth = 0.01;
 };
