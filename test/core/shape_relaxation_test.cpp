@@ -106,6 +106,28 @@ TEST(ShapeRelaxationLocal, GivenTheFrameBeforeSeedsOnlyEdgesStrainedMoreThanTher
   EXPECT_LT(strainAt(t.scene.garment, grown, t.vertex), strainAt(t.scene.garment, t.spiked, t.vertex));
 }
 
+// A local relaxation takes local_max_sweeps sweeps at most (6 by default), the whole one
+// max_sweeps; both leave the spike's edges within half its strain.
+TEST(ShapeRelaxationLocal, TakesItsOwnNumberOfSweeps) {
+  const SpikedTube t = spikedTube();
+  TriMesh local = t.spiked;
+  const ShapeRelaxationReport rep = relaxLocally(t, local, MatrixX3d(), MatrixX3d());
+  EXPECT_EQ(ShapeRelaxationParams().local_max_sweeps, 6);
+  EXPECT_GT(rep.sweeps, 0);
+  EXPECT_LE(rep.sweeps, 6);
+  const Body body(t.scene.body);
+  TriMesh whole = t.spiked;
+  ShapeRelaxationParams p;
+  p.max_sweeps = 12;
+  p.local_max_sweeps = 1;  // not used by a whole relaxation
+  const ShapeRelaxationReport all = relaxShape(body, t.scene.garment, whole, GarmentTopology(t.scene.garment), 0.002, p);
+  EXPECT_FALSE(all.local);
+  EXPECT_GT(all.sweeps, 1);
+  EXPECT_LE(all.sweeps, 12);
+  for (const TriMesh* g : {&local, &whole})
+    EXPECT_LT(strainAt(t.scene.garment, *g, t.vertex), 0.5 * strainAt(t.scene.garment, t.spiked, t.vertex));
+}
+
 TEST(ShapeRelaxationPolish, AVertexThatSteppedBackIsLimitedAgainInTheNextPass) {
   const ResolveScene s = makeProceduralTopScene(0.02, 0.035);
   const Body body(s.body);
