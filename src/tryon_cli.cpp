@@ -138,7 +138,7 @@ std::string usage() {
          "      --max-jitter M (default 0.003, 0: off): after a frame is resolved, each vertex whose\n"
          "      correction changed by more than M moves towards its previous correction, to a\n"
          "      change of M, where that keeps the frame clean (no crossing, not inside, clear of\n"
-         "      the body) and its edges within strain 0.2 (or their strain as resolved, if more);\n"
+         "      the body) and its edges within strain 0.3 (or their strain as resolved, if more);\n"
          "      \"coherence\" in its line says how many were over and how many stayed.\n"
          "      Then a backward pass (--no-backward: none): from the last frame but one back to the\n"
          "      first, each vertex whose correction still differs by more than M from the next\n"
