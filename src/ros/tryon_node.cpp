@@ -413,6 +413,8 @@ std::string TryonNode::keepCoherent(const BodyState& body, TriMesh& garment, con
       o << "; temporal coherence: " << c.candidates << " vertices' corrections changed by more than "
         << settings_.max_jitter << " m since frame " << last_resolved_.frame_index << ", " << c.limited
         << " brought within it (largest change " << c.change_before << " -> " << c.change_after << " m)";
+      if (c.strain_refusals > 0)
+        o << ", " << c.strain_refusals << " moves refused for straining an edge past " << cp.max_strain;
       if (c.forced_by_input > 0)
         o << ", " << c.forced_by_input << " of those left over forced by the input (its last correction lies inside "
           << "the body deeper than the limit)";
