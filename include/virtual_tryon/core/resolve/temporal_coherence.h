@@ -9,10 +9,10 @@
 // previous correction, to a change of max_change, where that keeps the frame clean: none of the
 // vertex's faces or edges crosses the body, the vertex is not inside it, and it stays at least
 // min_clearance from it (or as far as it was, if nearer); and the move keeps the shape: none of the
-// vertex's edges is strained past max_strain (or past its strain as resolved, if more). Otherwise it takes the largest clean part
-// of that move, found by bisection; otherwise it stays where the resolver put it. The frame stays correct on its own
-// (every move is checked against this frame's body); only the choice among clean positions follows
-// the previous frame.
+// vertex's edges is strained past max_strain (or past its strain as resolved, if more). Otherwise
+// it takes the largest clean part of that move, found by bisection; otherwise it stays where the
+// resolver put it. The frame stays correct on its own (every move is checked against this frame's
+// body); only the choice among clean positions follows the previous frame.
 //
 // limitCorrectionChangeBackward() is the second pass over a recorded sequence (the whole cache at
 // hand, tryon animate resolve), after every frame was resolved and limited forward: a jump the
