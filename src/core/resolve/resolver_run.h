@@ -22,6 +22,7 @@
 #include "virtual_tryon/core/resolve/stencils.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <sstream>
 #include <unordered_map>
@@ -48,6 +49,13 @@ class Stopwatch {
   Clock::time_point start_;
   double excluded_ = 0;
 };
+
+// |l / l0 - 1| of edge (a, b) at positions `at` (#V by 3) against `input` (#V by 3); 0 for an edge
+// of length 0 in `input`.
+inline double edgeStrain(const MatrixX3d& input, const MatrixX3d& at, int a, int b) {
+  const double l0 = (input.row(a) - input.row(b)).norm();
+  return l0 > 0 ? std::abs((at.row(a) - at.row(b)).norm() / l0 - 1) : 0.0;
+}
 
 // Garment connectivity a run needs, built once per call: the faces round each vertex, the
 // neighbours over edges, and the connected pieces.

@@ -166,20 +166,14 @@ class ShapeRelaxation {
     for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) {
       const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
       if (!moved_[a] && !moved_[b]) continue;
-      const double strain = strainOf(in_.V, g_.V, a, b);
+      const double strain = resolver_run::edgeStrain(in_.V, g_.V, a, b);
       if (!(strain > p_.local_seed_strain)) continue;
       if (before &&
-          !(strain > strainOf(p_.local_previous_input, p_.local_previous_result, a, b) + p_.local_seed_growth))
+          !(strain > resolver_run::edgeStrain(p_.local_previous_input, p_.local_previous_result, a, b) + p_.local_seed_growth))
         continue;
       seed(a);
       seed(b);
     }
-  }
-
-  // |l / l0 - 1| of edge (a, b) in `out` against `in`; 0 for an edge of length 0 in `in`.
-  static double strainOf(const MatrixX3d& in, const MatrixX3d& out, int a, int b) {
-    const double l0 = (in.row(a) - in.row(b)).norm();
-    return l0 > 0 ? std::abs((out.row(a) - out.row(b)).norm() / l0 - 1) : 0.0;
   }
 
   // edge_rest_: per garment edge, its listed rest length (0: none), when rest_strain > 0.

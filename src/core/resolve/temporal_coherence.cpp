@@ -17,12 +17,6 @@ double largestChange(const MatrixX3d& V, const MatrixX3d& input, const MatrixX3d
   return V.rows() ? ((V - input) - previous).rowwise().norm().maxCoeff() : 0.0;
 }
 
-// |l / l0 - 1| of edge (a, b) at positions `at` against `input`; 0 for an edge of length 0 there.
-double edgeStrain(const MatrixX3d& input, const MatrixX3d& at, int a, int b) {
-  const double l0 = (input.row(a) - input.row(b)).norm();
-  return l0 > 0 ? std::abs((at.row(a) - at.row(b)).norm() / l0 - 1) : 0.0;
-}
-
 // A patch of vertices where they are now keeps the frame clean and its shape: no edge of the patch
 // is strained (against the input) past max(maxStrain, its strain as resolved), their faces and
 // edges cross nothing, none is inside the body, and each is at least its floor from it.
@@ -71,8 +65,8 @@ class MoveCheck {
     for (int v : patch)
       for (int i = graph_.adj_start[static_cast<std::size_t>(v)]; i < graph_.adj_start[static_cast<std::size_t>(v) + 1]; ++i) {
         const int j = graph_.adj_v[static_cast<std::size_t>(i)];
-        const double now = edgeStrain(input_, garment_.V, v, j);
-        if (now > max_strain_ && now > edgeStrain(input_, resolved_, v, j) * (1 + 1e-9)) return false;
+        const double now = resolver_run::edgeStrain(input_, garment_.V, v, j);
+        if (now > max_strain_ && now > resolver_run::edgeStrain(input_, resolved_, v, j) * (1 + 1e-9)) return false;
       }
     return true;
   }
