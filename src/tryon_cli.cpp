@@ -156,7 +156,9 @@ std::string usage() {
          "                [--quick-sweeps N] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
-         "      cloth steps (--cloth-dt, default the drape's step) against the body interpolated\n"
+         "      cloth steps (--cloth-dt, default " + g(vt::WornGarmentParams().dt_safety) + " x the explicit step's stability limit\n"
+         "      for the cloth as draped, 2 / sqrt(largest eigenvalue of M^-1 K), at least the\n"
+         "      drape's step; frame 0's line gives both) against the body interpolated\n"
          "      between the two frames' depth maps, responding to the surface's velocity, and Sun\n"
          "      et al.'s resolver corrects what is left inside. --strain-restore: the fraction of a\n"
          "      spring's excess over the super-elastic threshold taken back per step (default " +
@@ -876,7 +878,14 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
                                                   !opt.count("sequential"));
       });
   const double dressMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << vt::json::Obj().add("frame", 0).json("drape", vt::toJson(dressed)).add("ms", dressMs).str() << std::endl;
+  std::cout << vt::json::Obj()
+                   .add("frame", 0)
+                   .json("drape", vt::toJson(dressed))
+                   .add("ms", dressMs)
+                   .add("cloth_dt_s", worn.clothStep())
+                   .add("cloth_dt_limit_s", worn.stepLimit())
+                   .str()
+            << std::endl;
   if (!dressed.success) {
     std::cerr << "tryon: drape failed: " << dressed.message << "\n";
     return 2;

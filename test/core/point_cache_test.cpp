@@ -1,16 +1,20 @@
 // Point Cache 2: round trip, every refusal (before allocation where a size is declared), and
 // tryon animate resolve on a small moving scene of the project's own.
+#include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/io/point_cache.h"
 #include "virtual_tryon/core/scenes/procedural.h"
+#include "virtual_tryon/core/scenes/procedural_animation.h"
 
 #include "test_helpers.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <regex>
 #include <vector>
 
 using namespace virtual_tryon;
@@ -207,4 +211,47 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
                             dir + "/err2.txt");
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(contains(bad.err, "points, the mesh")) << bad.err;
+}
+
+// tryon animate drape on the project's swaying body: the sleeveless shirt draped on frame 0 and worn
+// through 4 frames, every frame clean by the referee; frame 0's line gives the cloth's step, within
+// dt_safety of the stability limit of the draped cloth (the spectral bound), and every frame takes
+// as many steps as that step gives. A --cloth-dt is taken as given.
+TEST(AnimateDrape, TheSwayingBodyIsWornCleanAtTheClothsOwnStep) {
+  ProceduralAnimationParams ap;
+  ap.frames = 5;
+  const ProceduralAnimation anim = makeProceduralAnimation(ap);
+  const std::string dir = tempDir("animate_drape");
+  save(dir + "/body.obj", anim.body);
+  PointCache body;
+  body.points = static_cast<int>(anim.body.V.rows());
+  body.samples = anim.body_frames;
+  std::string err;
+  ASSERT_TRUE(writePointCache(dir + "/body.pc2", body, err)) << err;
+  const std::string base = "animate drape --body " + dir + "/body.obj --body-cache " + dir + "/body.pc2 --pattern " +
+                           std::string(VIRTUAL_TRYON_SOURCE_DIR) + "/config/patterns/procedural/sleeveless_shirt.yaml " +
+                           "--spacing 0.04 --check --out " + dir + "/worn";
+  auto number = [](const std::string& text, const std::string& key) {
+    std::smatch m;
+    return std::regex_search(text, m, std::regex("\"" + key + "\": ([-0-9.e+]+)")) ? std::stod(m[1]) : -1.0;
+  };
+  const CliRun run = runCli(base, dir + "/err.txt");
+  ASSERT_EQ(run.code, 0) << run.out << run.err;
+  EXPECT_TRUE(contains(run.out, "\"frames\": 4")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"frames_with_referee_findings\": 0")) << run.out;
+  const double step = number(run.out, "cloth_dt_s"), limit = number(run.out, "cloth_dt_limit_s"),
+               bound = number(run.out, "dt_bound_s");
+  ASSERT_GT(limit, 0) << run.out;
+  EXPECT_LE(step, WornGarmentParams().dt_safety * limit * (1 + 1e-9)) << run.out;
+  EXPECT_GT(step, 1.1 * 0.9 * bound) << "the drape's step is 0.9 of the per-node bound";
+  EXPECT_TRUE(contains(run.out, "\"steps\": " + std::to_string(static_cast<int>(std::ceil(1.0 / 30 / step - 1e-9)))))
+      << run.out;
+  PointCache out;
+  ASSERT_TRUE(readPointCache(dir + "/worn.pc2", out, err)) << err;
+  EXPECT_EQ(out.samples.size(), 5u);
+  const CliRun given = runCli(base + "_given --cloth-dt 0.0005", dir + "/err_given.txt");
+  ASSERT_EQ(given.code, 0) << given.out << given.err;
+  EXPECT_NEAR(number(given.out, "cloth_dt_s"), 0.0005, 1e-12) << given.out;
+  EXPECT_TRUE(contains(given.out, "\"steps\": 67")) << given.out;
+  EXPECT_TRUE(contains(given.out, "\"frames_with_referee_findings\": 0")) << given.out;
 }

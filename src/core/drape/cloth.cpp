@@ -1,5 +1,7 @@
 #include "virtual_tryon/core/drape/cloth.h"
 
+#include "virtual_tryon/core/drape/stiffness_spectrum.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -70,6 +72,10 @@ double ClothState::stableTimeStep() const {
   for (std::size_t i = 0; i < m_.size(); ++i)
     if (ksum[i] > 0) dt = std::min(dt, virtual_tryon::stableTimeStep(m_[i], ksum[i]));
   return std::isfinite(dt) ? dt : 0.0;
+}
+
+double ClothState::spectralTimeStep() const {
+  return virtual_tryon::spectralTimeStep(largestStiffnessEigenvalue(x_, springs_, packed_.k, m_).lambda_max);
 }
 
 void ClothState::packSprings() {

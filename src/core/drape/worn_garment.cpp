@@ -31,9 +31,7 @@ std::string num(double v) {
   return o.str();
 }
 
-// m/s: a pixel's surface speed is clamped to this (a pixel whose depth jumps, say from the torso to
-// an arm swinging in front of it, would otherwise throw what it touches at the jump / T).
-constexpr double kMaxSurfaceSpeed = 5.0;
+constexpr double kMaxSurfaceSpeed = WornGarment::kMaxSurfaceSpeed;
 
 // The body between two frames' maps on one grid, at time s in [0, 1] of the interval (the blend of
 // each pixel's depth and normal; see worn_garment.h), and the surface's velocity there: from B's
@@ -181,6 +179,7 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   clean_V_.resize(0, 3);
   clean_body_V_.resize(0, 3);
   frames_since_clean_ = 0;
+  step_limit_ = cloth_step_ = 0;
   if (params_.drape.mode != CollisionMode::ImageSpace) {
     DrapeResult r;
     r.message = "a worn garment steps in image space: drape mode must be image space";
@@ -193,12 +192,13 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
       params_.step_halvings > 8 || params_.carry_rings < 0 || params_.carry_rings > 1000 ||
       params_.carry_relax_passes < 0 || params_.carry_relax_passes > 10000 || params_.carry_smoothing < 0 ||
       params_.carry_smoothing > 1000 || params_.quick_sweeps < 0 || params_.quick_sweeps > 1000 ||
-      params_.quick_rings < 0 || params_.quick_rings > 1000 || !(params_.quick_strain > 0 && params_.quick_strain <= 10)) {
+      params_.quick_rings < 0 || params_.quick_rings > 1000 || !(params_.quick_strain > 0 && params_.quick_strain <= 10) ||
+      !(params_.dt_safety > 0 && params_.dt_safety <= 1)) {
     DrapeResult r;
     r.message = "worn garment parameters out of range (grid_margin 0 .. 10 m, dt >= 0 s, max_steps_per_frame >= 1, "
                 "strain_restore 0 .. 1, relax_passes 0 .. 1000, relax_compression 0 .. <1, step_halvings 0 .. 8, carry_rings 0 .. 1000, "
                 "carry_relax_passes 0 .. 10000, carry_smoothing 0 .. 1000, quick_sweeps and quick_rings 0 .. 1000, "
-                "quick_strain > 0 .. 10)";
+                "quick_strain > 0 .. 10, dt_safety > 0 .. 1)";
     return r;
   }
   // The first frame's maps on the grid every later frame shares, at the drape's pixel size (the
@@ -214,6 +214,10 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   }
   strain_ = rep.vertex_strain;
   cloth_->setStrainRestore(params_.strain_restore);
+  step_limit_ = cloth_->spectralTimeStep();
+  const double drapeStep = params_.drape.dt > 0 ? params_.drape.dt : params_.drape.dt_safety * cloth_->stableTimeStep();
+  const double collisionStep = params_.drape.collision.tol / kMaxSurfaceSpeed;
+  cloth_step_ = params_.dt > 0 ? params_.dt : std::max(drapeStep, std::min(params_.dt_safety * step_limit_, collisionStep));
   body_V_ = body.mesh().V;
   clean_V_ = garment_.V;
   clean_body_V_ = body_V_;
@@ -244,10 +248,7 @@ WornMapParams WornGarment::mapParams() const {
 }
 
 bool WornGarment::stepFrame(const FrameMaps& from, const FrameMaps& to, double seconds, WornFrameReport& rep) {
-  const ClothState& cloth = *cloth_;
-  double dt = params_.dt > 0 ? params_.dt : params_.drape.dt > 0 ? params_.drape.dt
-                                                                 : params_.drape.dt_safety * cloth.stableTimeStep();
-  for (;; dt /= 2, ++rep.step_halvings) {
+  for (double dt = cloth_step_;; dt /= 2, ++rep.step_halvings) {
     if (stepCloth(from, to, seconds, dt, rep)) return true;
     if (rep.steps == 0 || rep.step_halvings >= params_.step_halvings) return false;  // refused, or no halving left
   }
