@@ -216,7 +216,7 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
 // tryon animate drape on the project's swaying body: the sleeveless shirt draped on frame 0 and worn
 // through 4 frames, every frame clean by the referee; frame 0's line gives the cloth's step, within
 // dt_safety of the stability limit of the draped cloth (the spectral bound), and every frame takes
-// as many steps as that step gives. A --cloth-dt is taken as given.
+// as many steps as that step gives. A --cloth-dt is taken as given, unless it is above the limit.
 TEST(AnimateDrape, TheSwayingBodyIsWornCleanAtTheClothsOwnStep) {
   ProceduralAnimationParams ap;
   ap.frames = 5;
@@ -254,4 +254,7 @@ TEST(AnimateDrape, TheSwayingBodyIsWornCleanAtTheClothsOwnStep) {
   EXPECT_NEAR(number(given.out, "cloth_dt_s"), 0.0005, 1e-12) << given.out;
   EXPECT_TRUE(contains(given.out, "\"steps\": 67")) << given.out;
   EXPECT_TRUE(contains(given.out, "\"frames_with_referee_findings\": 0")) << given.out;
+  const CliRun unstable = runCli(base + "_unstable --cloth-dt 0.01", dir + "/err_unstable.txt");
+  EXPECT_EQ(unstable.code, 2) << unstable.out << unstable.err;
+  EXPECT_TRUE(contains(unstable.err, "above its stability limit")) << unstable.err;
 }

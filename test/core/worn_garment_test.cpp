@@ -199,6 +199,16 @@ TEST(WornGarment, RefusesWhatItCannotStep) {
     EXPECT_NE(dr.message.find("dt_safety"), std::string::npos) << dr.message;
   }
 
+  // A step above the cloth's stability limit is refused once the limit is known (after the drape).
+  WornGarmentParams tooLong = wornParams();
+  tooLong.dt = 0.01;
+  WornGarment unstable(tooLong);
+  const DrapeResult dl = unstable.dress(body, proceduralPattern("skirt.yaml"));
+  EXPECT_FALSE(dl.success);
+  EXPECT_NE(dl.message.find("stability limit"), std::string::npos) << dl.message;
+  EXPECT_FALSE(unstable.worn());
+  EXPECT_FALSE(unstable.follow(body, 1.0 / 30).success);
+
   WornGarmentParams fewSteps = wornParams();
   fewSteps.max_steps_per_frame = 2;
   WornGarment worn(fewSteps);

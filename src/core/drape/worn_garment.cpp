@@ -218,6 +218,17 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
   const double drapeStep = params_.drape.dt > 0 ? params_.drape.dt : params_.drape.dt_safety * cloth_->stableTimeStep();
   const double collisionStep = params_.drape.collision.tol / kMaxSurfaceSpeed;
   cloth_step_ = params_.dt > 0 ? params_.dt : std::max(drapeStep, std::min(params_.dt_safety * step_limit_, collisionStep));
+  if (params_.dt > 0 && step_limit_ > 0 && params_.dt > step_limit_) {
+    // Above it every step amplifies the cloth's stiffest mode (on the walk's dress at 1.01x: nodes
+    // at 8-25 m/s, and a frame whose correction took minutes).
+    rep.success = rep.converged = false;
+    rep.message = "the cloth's step " + num(params_.dt) + " s is above its stability limit " + num(step_limit_) +
+                  " s (2 / sqrt of the largest eigenvalue of M^-1 K, the cloth as draped)";
+    cloth_.reset();
+    maps_ = FrameMaps();
+    renderer_ = WornMapRenderer();
+    step_limit_ = cloth_step_ = 0;
+  }
   body_V_ = body.mesh().V;
   clean_V_ = garment_.V;
   clean_body_V_ = body_V_;

@@ -37,7 +37,7 @@ struct WornGarmentParams {
   // with 30% to spare. Measured on the walk: the dress goes wrong (nodes at 8-25 m/s) at 1.01x the
   // limit and is as at the drape's step at 0.84x; the trousers, strained to 0.146-0.148 on many
   // frames at any step, end one frame at 0.151 at 0.8x and two at 0.176 at 0.75x, none over 0.148
-  // at 0.7x.
+  // at 0.7x. A dt given above the limit is refused (dress fails once the drape has measured it).
   double dt = 0;
   double dt_safety = 0.7;        // (0, 1]
   bool body_velocity = true;     // respond to the velocity relative to the moving surface
