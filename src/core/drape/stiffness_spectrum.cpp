@@ -1,5 +1,6 @@
 #include "virtual_tryon/core/drape/stiffness_spectrum.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
