@@ -228,6 +228,7 @@ DrapeResult WornGarment::dress(const Body& body, const Pattern& pattern, const D
     maps_ = FrameMaps();
     renderer_ = WornMapRenderer();
     step_limit_ = cloth_step_ = 0;
+    return rep;
   }
   body_V_ = body.mesh().V;
   clean_V_ = garment_.V;
