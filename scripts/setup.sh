@@ -33,6 +33,19 @@ SUDO=""
 if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
 echo "setup: installing ${#missing[@]} Debian packages: ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# A mirror that fails for a moment (a CI run once lost its whole first stage to one) is asked
+# again: each download up to 3 times (Acquire::Retries), each command up to 3 times, a pause
+# between.
+retry() {
+  local attempt
+  for attempt in 1 2 3; do
+    "$@" && return 0
+    echo "setup: attempt $attempt of 3 failed: $*" >&2
+    ((attempt < 3)) && sleep $((20 * attempt))
+  done
+  return 1
+}
+APT=($SUDO apt-get -o Acquire::Retries=3 -o DPkg::Lock::Timeout=120)
+retry "${APT[@]}" update -qq
+retry "${APT[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 echo "setup: done"
