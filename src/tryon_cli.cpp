@@ -824,6 +824,9 @@ vt::json::Obj wornFrameJson(std::size_t frame, const vt::WornFrameReport& r, dou
         .add("ms_resolve_detection", 1e3 * r.resolver.seconds_detection)
         .add("ms_resolve_solve", 1e3 * r.resolver.seconds_solve)
         .add("ms_resolve_relaxation", 1e3 * r.resolver.seconds_relaxation)
+        .add("ms_relaxation_setup", 1e3 * r.resolver.relaxation.seconds_setup)
+        .add("ms_relaxation_rotations", 1e3 * r.resolver.relaxation.seconds_rotations)
+        .add("ms_relaxation_checks", 1e3 * r.resolver.relaxation.seconds_checks)
         .add("relaxed_vertices", r.resolver.relaxation.active_vertices);
   line.add("ms", ms)
       .add("ms_body", msBody)

@@ -10,11 +10,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <regex>
+#include <sstream>
 #include <vector>
 
 using namespace virtual_tryon;
@@ -249,6 +251,20 @@ TEST(AnimateDrape, TheSwayingBodyIsWornCleanAtTheClothsOwnStep) {
   PointCache out;
   ASSERT_TRUE(readPointCache(dir + "/worn.pc2", out, err)) << err;
   EXPECT_EQ(out.samples.size(), 5u);
+  // Where each frame's resolver time went: the relaxation's setup, rotations and checks, within
+  // its total.
+  std::istringstream lines(run.out);
+  int timed = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const double total = number(line, "ms_resolve_relaxation");
+    if (total < 0) continue;
+    ++timed;
+    const double setup = number(line, "ms_relaxation_setup"), rotations = number(line, "ms_relaxation_rotations"),
+                 checks = number(line, "ms_relaxation_checks");
+    EXPECT_GE(std::min({setup, rotations, checks}), 0) << line;
+    EXPECT_LE(setup + rotations + checks, total + 1e-6) << line;
+  }
+  EXPECT_EQ(timed, 4) << run.out;
   const CliRun given = runCli(base + "_given --cloth-dt 0.0005", dir + "/err_given.txt");
   ASSERT_EQ(given.code, 0) << given.out << given.err;
   EXPECT_NEAR(number(given.out, "cloth_dt_s"), 0.0005, 1e-12) << given.out;
