@@ -86,7 +86,7 @@ class ClothState {
   double stableTimeStep() const;
   // The symplectic Euler limit 2 / sqrt(lambda_max) of M^-1 H at the current positions
   // (core/drape/stiffness_spectrum.h; open seams not counted), lambda_max estimated by power
-  // iteration (about 10 ms on the 2.8k-node dress). There, as draped, 1.73x stableTimeStep(): a
+  // iteration (about 10 ms on the 3.8k-node dress). There, as draped, 1.73x stableTimeStep(): a
   // spring resists along itself, the per-node bound counts it along every axis. 0 without springs.
   double spectralTimeStep() const;
 
