@@ -153,7 +153,7 @@ std::string usage() {
          "                [--fps F] [--frames N] [--cloth-dt S] [--strain-restore R] [--no-body-velocity]\n"
          "                [--no-interpolate] [--no-skin-velocity] [--no-top-view] [--side-view]\n"
          "                [--relax-compression C] [--no-resolve-relaxed] [--no-carry] [--sequential]\n"
-         "                [--quick-sweeps N] [drape options]\n"
+         "                [--frames-ahead N] [--quick-sweeps N] [drape options]\n"
          "      Drapes the pattern on the body cache's first frame (as tryon drape, with its\n"
          "      options), then wears it through the motion: per frame (1 / F s, default F 30) the\n"
          "      cloth steps (--cloth-dt, default " + g(vt::WornGarmentParams().dt_safety) + " x the explicit step's stability limit\n"
@@ -174,9 +174,10 @@ std::string usage() {
          "      (default " + std::to_string(vt::WornGarmentParams().quick_sweeps) + ", over " + std::to_string(vt::WornGarmentParams().quick_rings) + " rings round what it moved), kept when no spring ends\n"
          "      past " + g(vt::WornGarmentParams().quick_strain) + "; otherwise the frame is corrected with the drape's relaxation (0:\n"
          "      always that one; the skin-carried fallback always uses it).\n"
-         "      Frame k + 1's body refit and maps are made on a second thread while the cloth\n"
-         "      steps through frame k, frame 1's while frame 0 is draped (--sequential: one after\n"
-         "      the other; the same results); a frame's ms is the wall time since the frame before\n"
+         "      The next frames' body refits and maps are made on a second thread while the cloth\n"
+         "      steps through frame k, at most --frames-ahead N of them waiting (default " + std::to_string(vt::FramesAhead::kDefaultDepth) + "),\n"
+         "      the first ones while frame 0 is draped (--sequential: one after the other; the same\n"
+         "      results); a frame's ms is the wall time since the frame before\n"
          "      (frame 1: the drape) was timed (the referee's count left out).\n"
          "      One JSON line per frame (steps, strain, crossings, milliseconds; --check adds the\n"
          "      referee's counts), then a summary. Writes OUT.obj (the garment on\n"
@@ -863,12 +864,14 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   wp.relax_compression = number(opt, "relax-compression", wp.relax_compression);
   wp.quick_sweeps = integer(opt, "quick-sweeps", wp.quick_sweeps, 0, 1000);
   const bool check = opt.count("check") > 0;
+  const int framesAhead = integer(opt, "frames-ahead", vt::FramesAhead::kDefaultDepth, 1, 64);
 
   auto body = std::make_unique<vt::Body>(vt::TriMesh{bodyCache.samples[0], rest.mesh.F});
   const vt::Pattern pattern = loadPattern(patternPath, wp.drape.spacing, body.get(), opt);
   vt::WornGarment worn(wp);
-  // Frame f + 1's body and maps are made ready on a second thread while the cloth steps through
-  // frame f (--sequential: one after the other), frame 1's while frame 0 is draped. A frame's ms
+  // The next frames' bodies and maps are made ready on a second thread while the cloth steps
+  // through frame f, at most --frames-ahead of them waiting (--sequential: one after the other),
+  // the first ones while frame 0 is draped. A frame's ms
   // is the wall time from the end of the frame before (frame 1: of the drape) to its end (the
   // referee's count of --check left out): with frames made ahead, what each costs in a run of them.
   const std::vector<vt::MatrixX3d> bodyFrames(bodyCache.samples.begin(), bodyCache.samples.begin() + frames);
@@ -878,7 +881,7 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
   const vt::DrapeResult dressed =
       worn.dress(first, pattern, drapeProgress(), 25, [&](const vt::WornMapRenderer& renderer) {
         ahead = std::make_unique<vt::FramesAhead>(std::move(body), bodyFrames, renderer, 1.0 / fps,
-                                                  !opt.count("sequential"));
+                                                  !opt.count("sequential"), framesAhead);
       });
   const double dressMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << vt::json::Obj()
@@ -914,7 +917,9 @@ int animateDrape(const std::map<std::string, std::string>& opt) {
     const double frameMs = 1e3 * std::chrono::duration<double>(now - tf).count();
     tf = now;
     vt::json::Obj line = wornFrameJson(static_cast<std::size_t>(f), r, 1e3 * next.seconds_body, frameMs);
-    line.add("ms_waited", 1e3 * next.seconds_waited).add("ms_ahead", 1e3 * next.seconds_body + msRender);
+    line.add("ms_waited", 1e3 * next.seconds_waited)
+        .add("ms_ahead", 1e3 * next.seconds_body + msRender)
+        .add("frames_ready_after", next.queued);
     if (!r.success) {
       failure = "frame " + std::to_string(f) + ": " + r.message;
     } else {
@@ -1040,7 +1045,7 @@ int main(int argc, char** argv) {
       const std::string mode = argc < 3 ? "" : argv[2];
       if (mode == "drape") {
         allowOnly(opt, "animate drape", {"body", "body-cache", "pattern", "out", "check", "fps", "frames", "cloth-dt",
-                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "quick-sweeps", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
+                                          "no-body-velocity", "no-interpolate", "no-skin-velocity", "no-top-view", "side-view", "no-resolve-relaxed", "no-carry", "sequential", "frames-ahead", "quick-sweeps", "relax-compression", "strain-restore", "spacing", "dt", "max-iterations",
                                           "no-resolve", "tol", "friction", "map-size", "density", "k-structural", "k-shear",
                                           "k-flexion", "max-strain", "body-uncertainty", "placement", "scale-to-height",
                                           "max-vertices", "max-faces"});

@@ -368,14 +368,15 @@ TEST(FramesAhead, GivesTheFramesSteppedOneAfterTheOtherCleanEveryFrame) {
   ASSERT_EQ(expected.size(), anim.body_frames.size());
   // Made ahead once the garment is worn, one after the other, and ahead from the start of the
   // drape on (frame 1 made ready while the first frame is draped: dress's mapsReady).
-  for (const char* mode : {"ahead", "one after the other", "ahead from the drape"}) {
+  for (const char* mode : {"ahead", "one ahead", "one after the other", "ahead from the drape"}) {
     const bool ahead = std::string(mode) != "one after the other", fromDrape = std::string(mode) == "ahead from the drape";
+    const int depth = std::string(mode) == "one ahead" ? 1 : FramesAhead::kDefaultDepth;
     auto first = std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F});
     const Body& body0 = *first;
     WornGarment worn(wornParams());
     std::unique_ptr<FramesAhead> made;
     const auto start = [&](const WornMapRenderer& renderer) {
-      made = std::make_unique<FramesAhead>(std::move(first), anim.body_frames, renderer, 1.0 / anim.rate, ahead);
+      made = std::make_unique<FramesAhead>(std::move(first), anim.body_frames, renderer, 1.0 / anim.rate, ahead, depth);
     };
     ASSERT_TRUE(worn.dress(body0, proceduralPattern("sleeveless_shirt.yaml"), nullptr, 25,
                            fromDrape ? std::function<void(const WornMapRenderer&)>(start) : nullptr)
@@ -391,6 +392,8 @@ TEST(FramesAhead, GivesTheFramesSteppedOneAfterTheOtherCleanEveryFrame) {
       ASSERT_EQ(f.index, count);
       ASSERT_NE(f.body, nullptr);
       EXPECT_EQ(f.body->mesh().V, anim.body_frames[static_cast<std::size_t>(f.index)]);
+      EXPECT_GE(f.queued, 0);
+      EXPECT_LE(f.queued, ahead ? depth - 1 : 0) << "frame " << f.index << " (" << mode << ")";
       EXPECT_TRUE(f.body->bvhRefitted()) << "frame " << f.index << " (" << mode << "): the trees are refitted, not rebuilt";
       const WornFrameReport r = worn.follow(*f.body, std::move(f.maps));
       ASSERT_TRUE(r.success) << "frame " << f.index << ": " << r.message;
@@ -429,7 +432,17 @@ TEST(FramesAhead, AFrameOfAnotherBodyIsRefusedAndNothingHangs) {
     FramesAhead bad(std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F}), frames, worn.mapRenderer(),
                     1.0 / 30, ahead);
     EXPECT_THROW(bad.next(), std::invalid_argument);
+    EXPECT_THROW(bad.next(), std::invalid_argument);  // again, instead of waiting for frames never made
   }
+  // Left with frames made and waiting (the second thread held back by the full queue): the
+  // destructor stops it and returns.
+  {
+    FramesAhead unused(std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F}), anim.body_frames,
+                       worn.mapRenderer(), 1.0 / 30, true, 1);
+  }
+  EXPECT_THROW(FramesAhead(std::make_unique<Body>(TriMesh{anim.body_frames[0], anim.body.F}), anim.body_frames,
+                           worn.mapRenderer(), 1.0 / 30, true, 0),
+               std::invalid_argument);
 }
 
 namespace {
