@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -180,17 +179,22 @@ class ShapeRelaxation {
   void takeRestLengths() {
     if (!(p_.rest_strain > 0) || p_.rest_lengths.empty()) return;
     edge_rest_.assign(static_cast<std::size_t>(topo_.edges.rows()), 0.0);
-    std::unordered_map<long long, Eigen::Index> index;
-    index.reserve(static_cast<std::size_t>(topo_.edges.rows()));
-    auto key = [](int a, int b) { return static_cast<long long>(std::min(a, b)) << 32 | static_cast<unsigned>(std::max(a, b)); };
-    for (Eigen::Index e = 0; e < topo_.edges.rows(); ++e) index.emplace(key(topo_.edges(e, 0), topo_.edges(e, 1)), e);
+    // The edge a-b found among a's neighbours in the graph (no table to build: this runs every
+    // frame of an animation, with thousands of rest lengths).
     for (const EdgeRestLength& r : p_.rest_lengths) {
       if (r.a < 0 || r.b < 0 || r.a >= nv_ || r.b >= nv_ || !(r.rest > 0)) continue;
-      const auto it = index.find(key(r.a, r.b));
-      if (it == index.end()) continue;
-      double& rest = edge_rest_[static_cast<std::size_t>(it->second)];
+      const int e = edgeBetween(r.a, r.b);
+      if (e < 0) continue;
+      double& rest = edge_rest_[static_cast<std::size_t>(e)];
       rest = rest > 0 ? std::min(rest, r.rest) : r.rest;
     }
+  }
+
+  // The garment edge between vertices a and b, -1 when they share none.
+  int edgeBetween(int a, int b) const {
+    for (int i = graph_.adj_start[a]; i < graph_.adj_start[a + 1]; ++i)
+      if (graph_.adj_v[i] == b) return graph_.adj_e[i];
+    return -1;
   }
 
   // The tangent plane of the body at the nearest point to x; outside a ridge the direction from
