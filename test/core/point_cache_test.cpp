@@ -1,5 +1,6 @@
 // Point Cache 2: round trip, every refusal (before allocation where a size is declared), and
 // tryon animate resolve on a small moving scene of the project's own.
+#include "virtual_tryon/core/drape/frames_ahead.h"
 #include "virtual_tryon/core/drape/worn_garment.h"
 #include "virtual_tryon/core/io/mesh_io.h"
 #include "virtual_tryon/core/io/point_cache.h"
@@ -263,8 +264,15 @@ TEST(AnimateDrape, TheSwayingBodyIsWornCleanAtTheClothsOwnStep) {
                  checks = number(line, "ms_relaxation_checks");
     EXPECT_GE(std::min({setup, rotations, checks}), 0) << line;
     EXPECT_LE(setup + rotations + checks, total + 1e-6) << line;
+    // The frames made ready behind it, at most all but it of the default queue of three.
+    const double queued = number(line, "frames_ready_after");
+    EXPECT_GE(queued, 0) << line;
+    EXPECT_LE(queued, FramesAhead::kDefaultDepth - 1) << line;
   }
   EXPECT_EQ(timed, 4) << run.out;
+  const CliRun noQueue = runCli(base + "_none --frames-ahead 0", dir + "/err_none.txt");
+  EXPECT_EQ(noQueue.code, 2) << noQueue.out << noQueue.err;
+  EXPECT_TRUE(contains(noQueue.err, "--frames-ahead")) << noQueue.err;
   const CliRun given = runCli(base + "_given --cloth-dt 0.0005", dir + "/err_given.txt");
   ASSERT_EQ(given.code, 0) << given.out << given.err;
   EXPECT_NEAR(number(given.out, "cloth_dt_s"), 0.0005, 1e-12) << given.out;
