@@ -119,7 +119,14 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
   const ros::WallTime end = start + ros::WallDuration(duration);
   double rssWarm = -1;
   std::mutex rssMutex;
+  // Each client holds persistent connections, one per service, as a front end calling at this
+  // rate would: a call without one opens and closes a TCP connection, and roscpp's non-persistent
+  // calls fail now and then under load by a known race of its own (ros/ros_comm#1976: the
+  // connection is closed on POLLRDHUP before the client has read the response; seen here once in
+  // 174 calls), which says nothing about the node.
   auto client = [&](int id) {
+    ros::ServiceClient resolver = nh.serviceClient<vt::ResolvePenetration>("/tryon_node/resolve_penetration", true);
+    ros::ServiceClient draper = nh.serviceClient<vt::Drape>("/tryon_node/drape", true);
     for (int k = 0; ros::WallTime::now() < end; ++k) {
       const bool doResolve = (k + id) % 2 == 0;
       const ros::WallTime t0 = ros::WallTime::now();
@@ -127,7 +134,7 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
         vt::ResolvePenetration srv;
         srv.request.body = sceneBodyMsg;
         srv.request.garment = garmentMsg;
-        if (!ros::service::call("/tryon_node/resolve_penetration", srv)) {
+        if (!resolver.call(srv)) {
           ++stats.failed_calls;
           continue;
         }
@@ -140,7 +147,7 @@ TEST(Load, ClientsAndStreamsAtOnceGiveCorrectAnswersAndFlatMemory) {
         srv.request.body = drapeBodyMsg;
         srv.request.pattern = patternMessage;
         srv.request.spacing = 0.04;
-        if (!ros::service::call("/tryon_node/drape", srv)) {
+        if (!draper.call(srv)) {
           ++stats.failed_calls;
           continue;
         }
