@@ -109,12 +109,11 @@ def max_median(values):
     return "%.1f / %.1f" % (max(values), statistics.median(values))
 
 
-def resolve_runs(data, out, garment, motion):
+def resolve_runs(data, out, garment, motion, body_cache):
     anim = os.path.join(data, "animation")
     cache = motion_cache(os.path.join(anim, garment + "_walk.pc2"), out, motion)
-    base = ["animate", "resolve", "--body", os.path.join(anim, "body_hm08.obj"), "--body-cache",
-            motion_cache(os.path.join(anim, "body_hm08_walk.pc2"), out, motion), "--garment",
-            os.path.join(anim, garment + ".obj"), "--garment-cache", cache]
+    base = ["animate", "resolve", "--body", os.path.join(anim, "body_hm08.obj"), "--body-cache", body_cache,
+            "--garment", os.path.join(anim, garment + ".obj"), "--garment-cache", cache]
     r = {"input": cache}
 
     def variant(name, extra):
@@ -162,9 +161,10 @@ def jitter_column(r, mode):
 
 def resolve_tables(data, out, garments, motion):
     warm_rows, cold_rows, relax_rows = [], [], []
+    body_cache = motion_cache(os.path.join(data, "animation", "body_hm08_walk.pc2"), out, motion)
     for g in garments:
         print("walk_benchmark: resolve %s" % g, file=sys.stderr)
-        r = resolve_runs(data, out, g, motion)
+        r = resolve_runs(data, out, g, motion, body_cache)
         relax_rows.append([RESOLVE_NAMES.get(g, g)] + relaxation_columns(r["warm_time"]) +
                           relaxation_columns(r["full_time"]))
         for mode, rows in (("warm", warm_rows), ("cold", cold_rows)):
