@@ -128,6 +128,10 @@ TEST(AnimateResolve, EveryFrameOfAMovingSceneIsCleanAndSteady) {
   ASSERT_EQ(run.code, 0) << run.out << run.err;
   EXPECT_TRUE(contains(run.out, "\"frames\": 5")) << run.out;
   EXPECT_TRUE(contains(run.out, "\"frames_with_referee_findings\": 0")) << run.out;
+  // Each frame's line says how long the body's tree took: built on frame 0, refitted after.
+  EXPECT_TRUE(contains(run.out, "\"ms_body_tree\"")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"body_trees_built\": 1")) << run.out;
+  EXPECT_TRUE(contains(run.out, "\"body_trees_refitted\": 4")) << run.out;
   PointCache out;
   ASSERT_TRUE(readPointCache(dir + "/out.pc2", out, err, garment.points)) << err;
   ASSERT_EQ(out.samples.size(), 5u);
