@@ -4,13 +4,16 @@
 Runs `tryon animate resolve` on the walk's four garments and `tryon animate drape` with the
 shipped hm08 patterns and GarmentCode's shirt, and prints both tables in README's columns:
 the referee's counts and the shape from runs with --check, the milliseconds from runs without it
-(the referee's count between frames evicts the caches), each timing the second of two runs
-alternated with the other variant (warm with cold, ahead with --sequential). The jitter columns
+(the referee's count between frames evicts the caches). Each timed variant runs --repeat times
+(default 5), alternated with the other variants (warm, cold and full relaxation; ahead and
+--sequential); a table gives the run whose mean is the median of those runs' means, and the
+smallest and largest of them (a 2-core virtual machine has slow spells: the same build's mean
+moves by up to 1.4 times from one minute to the next). The jitter columns
 are measured here from the PC2 files written (each vertex's correction, output minus input, from
 one frame to the next), not taken from the tool's own report.
 
 Usage: scripts/walk_benchmark.py [--data DIR] [--out DIR] [--only resolve|drape] [--garments A,B]
-                                 [--motion walk|reversed|double]
+                                 [--motion walk|reversed|double] [--repeat N]
   --data   the shared data (default ../shared/data next to the repository; the walk is in
            DIR/animation, GarmentCode's shirt in DIR/garmentcode)
   --out    where the runs' JSON lines and PC2 files go (default ./walk_benchmark)
@@ -20,9 +23,10 @@ Usage: scripts/walk_benchmark.py [--data DIR] [--out DIR] [--only resolve|drape]
   --motion another motion made from the walk, its caches written into --out: `reversed`, the
            walk played backwards; `double`, every second frame at the same frame rate (the walk
            at twice its speed: the skin up to 7.4 m/s instead of 3.7). Default: the walk.
+  --repeat how many times each timed variant runs (default 5; odd, so that one run is the median)
 The tool is taken from $VT_WS/devel/lib/virtual_tryon/tryon (VT_WS default: .ws in the
-repository); build it first (scripts/build.sh). Takes about 10 minutes for the resolve table and
-20 for the drape table on a 2-core machine (the referee's brute-force counts dominate).
+repository); build it first (scripts/build.sh). Takes about 11 minutes for the resolve table and
+25 for the drape table on a 2-core machine (the referee's brute-force counts dominate).
 """
 import argparse
 import json
@@ -109,7 +113,19 @@ def max_median(values):
     return "%.1f / %.1f" % (max(values), statistics.median(values))
 
 
-def resolve_runs(data, out, garment, motion, body_cache):
+def median_run(runs):
+    """Of several runs of one variant, the one whose mean ms a frame is the median of theirs."""
+    ordered = sorted(runs, key=lambda lines: summary_of(lines)["ms_mean"])
+    return ordered[(len(ordered) - 1) // 2]
+
+
+def spread(runs):
+    """The smallest and largest mean ms a frame over several runs of one variant."""
+    means = [summary_of(lines)["ms_mean"] for lines in runs]
+    return "%.1f-%.1f" % (min(means), max(means))
+
+
+def resolve_runs(data, out, garment, motion, body_cache, repeat):
     anim = os.path.join(data, "animation")
     cache = motion_cache(os.path.join(anim, garment + "_walk.pc2"), out, motion)
     base = ["animate", "resolve", "--body", os.path.join(anim, "body_hm08.obj"), "--body-cache", body_cache,
@@ -130,10 +146,12 @@ def resolve_runs(data, out, garment, motion, body_cache):
     variant("warm_none", ["--max-jitter", "0"])
     variant("cold_forward", ["--cold", "--no-backward"])
     variant("cold_none", ["--cold", "--max-jitter", "0"])
-    for _ in range(2):  # the second of two alternated runs
-        variant("warm_time", [])
-        variant("cold_time", ["--cold"])
-        variant("full_time", ["--full-relaxation"])
+    for _ in range(repeat):  # alternated, so that a slow spell falls on every variant alike
+        for name, extra in (("warm_time", []), ("cold_time", ["--cold"]), ("full_time", ["--full-relaxation"])):
+            variant(name, extra)
+            r.setdefault(name + "_runs", []).append(r[name])
+    for name in ("warm_time", "cold_time", "full_time"):
+        r[name] = median_run(r[name + "_runs"])
     return r
 
 
@@ -159,12 +177,12 @@ def jitter_column(r, mode):
                             max_median(jitter(r[mode + "_none_pc2"], r["input"])))
 
 
-def resolve_tables(data, out, garments, motion):
+def resolve_tables(data, out, garments, motion, repeat):
     warm_rows, cold_rows, relax_rows = [], [], []
     body_cache = motion_cache(os.path.join(data, "animation", "body_hm08_walk.pc2"), out, motion)
     for g in garments:
         print("walk_benchmark: resolve %s" % g, file=sys.stderr)
-        r = resolve_runs(data, out, g, motion, body_cache)
+        r = resolve_runs(data, out, g, motion, body_cache, repeat)
         relax_rows.append([RESOLVE_NAMES.get(g, g)] + relaxation_columns(r["warm_time"]) +
                           relaxation_columns(r["full_time"]))
         for mode, rows in (("warm", warm_rows), ("cold", cold_rows)):
@@ -179,11 +197,13 @@ def resolve_tables(data, out, garments, motion):
                 cold_frames = frames_of(r["cold_check"])
                 crossings = [d["crossings_before"] for d in cold_frames]
                 rows.append([RESOLVE_NAMES.get(g, g), str(len(check)), "%d-%d" % (min(crossings), max(crossings)), ms,
-                             body, resolve, strain, str(over), jitter_column(r, mode), left,
-                             str(s["warm_frames_resolved_cold"]), str(findings)])
+                             spread(r["warm_time_runs"]), body, resolve, strain, str(over), jitter_column(r, mode),
+                             left, str(s["warm_frames_resolved_cold"]), str(findings)])
             else:
-                rows.append([RESOLVE_NAMES.get(g, g), ms, strain, str(over), jitter_column(r, mode), left, str(findings)])
-    print_table(["garment", "frames", "crossings in the input (per frame)", "ms mean / median / max", "of which body",
+                rows.append([RESOLVE_NAMES.get(g, g), ms, spread(r["cold_time_runs"]), strain, str(over),
+                             jitter_column(r, mode), left, str(findings)])
+    runs = "means of the %d runs" % repeat
+    print_table(["garment", "frames", "crossings in the input (per frame)", "ms mean / median / max", runs, "of which body",
                  "resolve", "strain max / p99 (worst frames)", "frames over 0.3",
                  "jitter max / median mm after the backward pass (forward pass alone; without coherence)",
                  "vertices over 3 mm / left over forward / left over after the backward pass",
@@ -191,7 +211,7 @@ def resolve_tables(data, out, garments, motion):
     print()
     print("The same with `--cold`:")
     print()
-    print_table(["garment", "ms mean / median / max", "strain max / p99 (worst frames)", "frames over 0.3",
+    print_table(["garment", "ms mean / median / max", runs, "strain max / p99 (worst frames)", "frames over 0.3",
                  "jitter max / median mm after the backward pass (forward pass alone; without coherence)",
                  "vertices over 3 mm / left over forward / left over after the backward pass",
                  "frames with referee findings"], cold_rows)
@@ -220,7 +240,7 @@ def pattern_path(data, name):
     return os.path.join(REPO, "config", "patterns", "hm08", name + ".yaml"), "hm08 " + name.replace("_", " ")
 
 
-def drape_tables(data, out, patterns, motion):
+def drape_tables(data, out, patterns, motion, repeat):
     anim = os.path.join(data, "animation")
     body_cache = motion_cache(os.path.join(anim, "body_hm08_walk.pc2"), out, motion)
     rows = []
@@ -233,9 +253,11 @@ def drape_tables(data, out, patterns, motion):
         check = run(base + ["--out", prefix + "_check", "--check"])
         with open(prefix + "_check.jsonl", "w") as f:
             f.write("\n".join(json.dumps(d) for d in check) + "\n")
-        for _ in range(2):  # the second of two alternated runs
-            ahead = run(base + ["--out", prefix + "_ahead"])
-            sequential = run(base + ["--out", prefix + "_sequential", "--sequential"])
+        aheads, sequentials = [], []
+        for _ in range(repeat):  # alternated, so that a slow spell falls on both alike
+            aheads.append(run(base + ["--out", prefix + "_ahead"]))
+            sequentials.append(run(base + ["--out", prefix + "_sequential", "--sequential"]))
+        ahead, sequential = median_run(aheads), median_run(sequentials)
         frames, s = [d for d in frames_of(check) if d["frame"] > 0], summary_of(check)
         clean = sum(1 for d in frames if isinstance(d.get("referee"), dict) and not any(
             d["referee"].get(k, 0) for k in ("garment_edge_crossings", "body_edge_crossings", "vertices_inside")))
@@ -247,12 +269,13 @@ def drape_tables(data, out, patterns, motion):
         rows.append([label, str(vertices), str(len(frames)), str(clean),
                      "%.3f (%d)" % (s["strain_max"], over), str(sum(1 for d in frames if d.get("resolved_relaxed"))),
                      str(s["frames_carried_with_skin"]), str(s["frames_corrected_quickly"]),
-                     "%.1f / %.1f / %.1f" % (t["ms_mean"], t["ms_median"], t["ms_max"]),
+                     "%.1f / %.1f / %.1f" % (t["ms_mean"], t["ms_median"], t["ms_max"]), spread(aheads),
                      "%.1f / %.1f; %.1f / %.1f" % (mean("ms_body"), mean("ms_maps"), mean("ms_cloth"), mean("ms_resolve")),
                      "%.1f" % summary_of(sequential)["ms_mean"], "%d" % round(mean("steps")), str(s["not_converged"])])
     print_table(["garment", "vertices", "frames stepped", "frames clean by the referee", "largest strain (frames over 0.15)",
                  "frames resolved again and kept", "frames carried with the skin", "frames corrected quickly",
-                 "ms mean / median / max", "made ahead: body / maps; on the cloth's thread: cloth / resolve",
+                 "ms mean / median / max", "means of the %d runs" % repeat,
+                 "made ahead: body / maps; on the cloth's thread: cloth / resolve",
                  "ms mean, one after the other (`--sequential`)", "steps a frame", "frames not converged"], rows)
 
 
@@ -270,16 +293,19 @@ def main():
     parser.add_argument("--only", choices=["resolve", "drape"])
     parser.add_argument("--garments")
     parser.add_argument("--motion", choices=["walk", "reversed", "double"], default="walk")
+    parser.add_argument("--repeat", type=int, default=5)
     a = parser.parse_args()
+    if a.repeat < 1 or a.repeat % 2 == 0:
+        sys.exit("walk_benchmark: --repeat must be odd and at least 1")
     if not os.path.isfile(os.path.join(a.data, "animation", "body_hm08_walk.pc2")):
         sys.exit("walk_benchmark: no walk in %s/animation (give --data)" % a.data)
     os.makedirs(a.out, exist_ok=True)
     chosen = a.garments.split(",") if a.garments else None
     if a.only != "drape":
-        resolve_tables(a.data, a.out, chosen or RESOLVE_GARMENTS, a.motion)
+        resolve_tables(a.data, a.out, chosen or RESOLVE_GARMENTS, a.motion, a.repeat)
         print()
     if a.only != "resolve":
-        drape_tables(a.data, a.out, chosen or DRAPE_PATTERNS, a.motion)
+        drape_tables(a.data, a.out, chosen or DRAPE_PATTERNS, a.motion, a.repeat)
 
 
 if __name__ == "__main__":
