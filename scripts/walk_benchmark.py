@@ -25,8 +25,8 @@ Usage: scripts/walk_benchmark.py [--data DIR] [--out DIR] [--only resolve|drape]
            at twice its speed: the skin up to 7.4 m/s instead of 3.7). Default: the walk.
   --repeat how many times each timed variant runs (default 5; odd, so that one run is the median)
 The tool is taken from $VT_WS/devel/lib/virtual_tryon/tryon (VT_WS default: .ws in the
-repository); build it first (scripts/build.sh). Takes about 11 minutes for the resolve table and
-25 for the drape table on a 2-core machine (the referee's brute-force counts dominate).
+repository); build it first (scripts/build.sh). Takes about 10 minutes for the resolve table and
+22 for the drape table on a 2-core machine (the referee's brute-force counts dominate).
 """
 import argparse
 import json
@@ -135,13 +135,15 @@ def resolve_runs(data, out, garment, motion, body_cache, repeat):
             "--garment", os.path.join(anim, garment + ".obj"), "--garment-cache", cache]
     r = {"input": cache}
 
+    def save(name, lines):
+        with open(os.path.join(out, "resolve_%s_%s.jsonl" % (garment, name)), "w") as f:
+            f.write("\n".join(json.dumps(d) for d in lines) + "\n")
+
     def variant(name, extra):
         path = os.path.join(out, "resolve_%s_%s" % (garment, name))
-        lines = run(base + ["--out", path + ".pc2"] + extra)
-        with open(path + ".jsonl", "w") as f:
-            f.write("\n".join(json.dumps(d) for d in lines) + "\n")
-        r[name] = lines
+        r[name] = run(base + ["--out", path + ".pc2"] + extra)
         r[name + "_pc2"] = path + ".pc2"
+        save(name, r[name])
 
     variant("warm_check", ["--check"])
     variant("cold_check", ["--check", "--cold"])
@@ -155,6 +157,7 @@ def resolve_runs(data, out, garment, motion, body_cache, repeat):
             r.setdefault(name + "_runs", []).append(r[name])
     for name in ("warm_time", "cold_time", "full_time"):
         r[name] = median_run(r[name + "_runs"])
+        save(name, r[name])  # the lines of the run the tables give, not of the last one
     return r
 
 
